@@ -1,0 +1,2 @@
+//! Closed-form reference solutions, tested on their own and used by the verification.
+pub mod compression;

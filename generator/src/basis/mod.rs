@@ -1,0 +1,1 @@
+//! B-spline and NURBS basis functions with derivatives (Piegl & Tiller).

@@ -1,0 +1,1 @@
+//! Performance figures printed by `tcgen bench`.

@@ -1,0 +1,1 @@
+//! Sparse assembly: pattern and scatter map built once, values filled per iteration.

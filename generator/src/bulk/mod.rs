@@ -1,0 +1,2 @@
+//! Bulk thermoelasticity: element residuals and tangents (local), sparse assembly (global).
+pub mod global;

@@ -1,0 +1,73 @@
+//! The crate's one error type.
+
+use thiserror::Error as ThisError;
+
+/// Every failure `tcgen` reports: bad input, numerical failure, I/O.
+///
+/// Programmer errors (mismatched dimensions, out-of-range indices) panic
+/// instead, with `#[track_caller]`.
+#[derive(Debug, ThisError)]
+pub enum Error {
+    /// A user-supplied value is outside its allowed range.
+    #[error("invalid input `{field}` = {value}: {expected}")]
+    InvalidInput {
+        /// The key or field, as the user wrote it (e.g. `material.poisson_ratio`).
+        field: String,
+        /// The offending value, formatted.
+        value: String,
+        /// The allowed range or form.
+        expected: String,
+    },
+    /// An ill-formed geometric object (knot vector, patch, projection failure).
+    #[error("geometry: {0}")]
+    Geometry(String),
+    /// The sparse direct solver failed (singular or indefinite matrix, ...).
+    #[error("linear solver: {0}")]
+    LinearSolver(String),
+    /// Newton's method failed within a load step.
+    #[error(
+        "Newton did not converge in load step {step} (load factor {load_factor:.6}) \
+         after {iterations} iterations: {reason}"
+    )]
+    NewtonDiverged {
+        /// Load step counter (0-based).
+        step: usize,
+        /// The load factor that was attempted.
+        load_factor: f64,
+        /// Iterations performed.
+        iterations: usize,
+        /// Which residual failed, and how.
+        reason: String,
+    },
+    /// Adaptive load stepping cut the step below its minimum.
+    #[error("load stepping stalled at load factor {load_factor:.6}: step {step_size:.3e} below the minimum; last failure: {last}")]
+    LoadStepStalled {
+        /// The last converged load factor.
+        load_factor: f64,
+        /// The step size that failed.
+        step_size: f64,
+        /// The last Newton failure.
+        last: String,
+    },
+    /// A configuration file could not be read or parsed.
+    #[error("config: {0}")]
+    Config(String),
+    /// Reading or writing a file failed.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file concerned.
+        path: String,
+        /// The underlying I/O error.
+        source: std::io::Error,
+    },
+}
+
+/// `Result` with the crate's [`Error`].
+pub type Result<T> = std::result::Result<T, Error>;
+
+impl Error {
+    /// Shorthand for [`Error::InvalidInput`].
+    pub fn invalid(field: impl Into<String>, value: impl std::fmt::Display, expected: impl Into<String>) -> Self {
+        Error::InvalidInput { field: field.into(), value: value.to_string(), expected: expected.into() }
+    }
+}

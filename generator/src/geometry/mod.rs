@@ -1,0 +1,1 @@
+//! Knot vectors, NURBS patches (curves, surfaces, volumes), refinement, fitted rough blocks.

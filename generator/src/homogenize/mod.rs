@@ -1,0 +1,1 @@
+//! Homogenization procedures (paper Sects. 2–3, spec §8).

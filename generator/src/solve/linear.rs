@@ -1,0 +1,1 @@
+//! Sparse direct solvers behind one small interface: analyse once, refactorize per Newton step, solve.

@@ -1,0 +1,2 @@
+//! Degrees of freedom, boundary conditions, linear solvers and Newton's method.
+pub mod linear;

@@ -1,0 +1,1 @@
+//! Rough surface families (spec §3).

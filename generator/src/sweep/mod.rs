@@ -1,0 +1,1 @@
+//! Parameter sweeps over pressure, flux, contact temperature and surface samples.

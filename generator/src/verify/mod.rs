@@ -1,0 +1,1 @@
+//! The verification catalogue (spec §10), printed by `tcgen verify`.
