@@ -21,6 +21,7 @@
 //! | [`surface`] | rough surface families |
 //! | [`sweep`] | parameter grids and ensembles |
 //! | [`io`] | tables, VTK |
+//! | [`sample`] | the micro-sample case file and its solve |
 //! | [`analytical`] | closed-form reference solutions used by the verification |
 //! | [`verify`] | the verification catalogue (spec §10), run by `tcgen verify` |
 //!
@@ -39,6 +40,7 @@ pub mod homogenize;
 pub mod io;
 pub mod material;
 pub mod quadrature;
+pub mod sample;
 pub mod solve;
 pub mod surface;
 pub mod sweep;

@@ -1,2 +1,11 @@
 //! Degrees of freedom, boundary conditions, linear solvers and Newton's method.
 pub mod linear;
+pub mod dofs;
+pub mod model;
+pub mod newton;
+pub mod scales;
+
+pub use dofs::{Dof, DofMap, DofMapBuilder};
+pub use model::{Body, Model, ModelBuilder};
+pub use newton::{LoadStepping, Newton, NewtonSettings, NonlinearProblem, SolveHistory};
+pub use scales::Scales;

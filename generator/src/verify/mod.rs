@@ -1,1 +1,148 @@
 //! The verification catalogue (spec §10), printed by `tcgen verify`.
+//!
+//! Every case compares a computed quantity with a reference (closed form,
+//! manufactured solution, or an expected convergence rate) and states its
+//! tolerance. The same functions back the integration tests, so the table
+//! printed for a user is the evidence the test suite checks.
+
+use serde::Serialize;
+
+use crate::Result;
+
+pub mod bulk;
+pub mod mms;
+
+/// One line of the verification table.
+#[derive(Clone, Debug, Serialize)]
+pub struct Check {
+    /// Case name (group of checks).
+    pub case: String,
+    /// What is compared.
+    pub quantity: String,
+    /// Computed value.
+    pub computed: f64,
+    /// Reference value.
+    pub reference: f64,
+    /// Error measure (absolute or relative, as `quantity` says).
+    pub error: f64,
+    /// Tolerance on `error` (or on the rate deviation for rate checks).
+    pub tolerance: f64,
+    /// Observed convergence rate, when the check is a rate.
+    pub rate: Option<f64>,
+    /// Whether the check passed.
+    pub pass: bool,
+}
+
+impl Check {
+    /// A check of `computed` against `reference` with relative error
+    /// `|c − r| / max(|r|, floor)`.
+    pub fn relative(case: &str, quantity: &str, computed: f64, reference: f64, tolerance: f64) -> Self {
+        let error = (computed - reference).abs() / reference.abs().max(1e-300);
+        Check::with_error(case, quantity, computed, reference, error, tolerance)
+    }
+
+    /// A check of `computed` against `reference` with absolute error.
+    pub fn absolute(case: &str, quantity: &str, computed: f64, reference: f64, tolerance: f64) -> Self {
+        let error = (computed - reference).abs();
+        Check::with_error(case, quantity, computed, reference, error, tolerance)
+    }
+
+    /// A check with an error computed by the caller (`error <= tolerance` passes).
+    pub fn with_error(case: &str, quantity: &str, computed: f64, reference: f64, error: f64, tolerance: f64) -> Self {
+        Check {
+            case: case.into(),
+            quantity: quantity.into(),
+            computed,
+            reference,
+            error,
+            tolerance,
+            rate: None,
+            pass: error.is_finite() && error <= tolerance,
+        }
+    }
+
+    /// A convergence-rate check: observed `rate` against `expected` within `tolerance`.
+    pub fn rate(case: &str, quantity: &str, finest_error: f64, rate: f64, expected: f64, tolerance: f64) -> Self {
+        let dev = (rate - expected).abs();
+        Check {
+            case: case.into(),
+            quantity: quantity.into(),
+            computed: finest_error,
+            reference: expected,
+            error: dev,
+            tolerance,
+            rate: Some(rate),
+            pass: rate.is_finite() && dev <= tolerance,
+        }
+    }
+}
+
+/// A verification case: a name and the function that runs it.
+pub struct Case {
+    /// Name (also the filter key).
+    pub name: &'static str,
+    /// What it verifies, one line.
+    pub description: &'static str,
+    /// Runs the case.
+    pub run: fn() -> Result<Vec<Check>>,
+}
+
+/// All cases of the catalogue, in order.
+pub fn catalogue() -> Vec<Case> {
+    let mut v = Vec::new();
+    v.extend(mms::cases());
+    v.extend(bulk::cases());
+    v
+}
+
+/// Least-squares slope of `log(e)` against `log(h)`.
+pub fn fitted_rate(h: &[f64], e: &[f64]) -> f64 {
+    let n = h.len() as f64;
+    let (lx, ly): (Vec<f64>, Vec<f64>) = h.iter().zip(e).map(|(h, e)| (h.ln(), e.ln())).unzip();
+    let mx = lx.iter().sum::<f64>() / n;
+    let my = ly.iter().sum::<f64>() / n;
+    let sxy: f64 = lx.iter().zip(&ly).map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = lx.iter().map(|x| (x - mx) * (x - mx)).sum();
+    sxy / sxx
+}
+
+/// Formats checks as an aligned text table.
+pub fn format_table(checks: &[Check]) -> String {
+    let mut s = format!(
+        "{:<28} {:<40} {:>13} {:>13} {:>10} {:>9} {:>6}  {}\n",
+        "case", "quantity", "computed", "reference", "error", "tolerance", "rate", "result"
+    );
+    for c in checks {
+        let rate = c.rate.map(|r| format!("{r:.3}")).unwrap_or_default();
+        s.push_str(&format!(
+            "{:<28} {:<40} {:>13.6e} {:>13.6e} {:>10.2e} {:>9.1e} {:>6}  {}\n",
+            c.case,
+            c.quantity,
+            c.computed,
+            c.reference,
+            c.error,
+            c.tolerance,
+            rate,
+            if c.pass { "pass" } else { "FAIL" }
+        ));
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fitted_rate_recovers_a_power_law() {
+        let h = [0.5, 0.25, 0.125, 0.0625];
+        let e: Vec<f64> = h.iter().map(|h: &f64| 3.0 * h.powf(2.7)).collect();
+        assert!((fitted_rate(&h, &e) - 2.7).abs() < 1e-12);
+    }
+
+    #[test]
+    fn checks_fail_on_nan() {
+        assert!(!Check::relative("c", "q", f64::NAN, 1.0, 1.0).pass);
+        assert!(!Check::rate("c", "q", 1.0, f64::NAN, 2.0, 0.1).pass);
+    }
+}

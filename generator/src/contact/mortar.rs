@@ -1,0 +1,560 @@
+//! Mortar contact interface in 2D (paper Sect. 4.2–4.3, spec §6):
+//! element-based integration on the slave surface, projection of every
+//! integration point onto the master, row-sum lumped weighted gaps and jumps
+//! (4.8), Alart–Curnier augmented Lagrangian for normal contact, and the
+//! thermal contact models (constraint by penalty (4.7) or augmented Lagrangian
+//! (4.9)–(4.10), constitutive `h0 = −kθ pN^α ϑc`), or the pointwise
+//! *continuum* thermal contact for comparison.
+//!
+//! All quantities are in the solver's scaled units. The contribution of slave
+//! control point `I` is one "contact element" whose unknowns are the
+//! displacements and temperatures of every control point that its integration
+//! points see, and its multipliers. With `G^I = ∂⟨N^I gN⟩/∂u`,
+//! `H^I = ∂²⟨N^I gN⟩/∂u²`, `A^I = ⟨N^I⟩` and `g^I = ⟨N^I gN⟩/A^I`:
+//! ```text
+//! pN^I = λN^I − εN g^I  > 0 (active):  R_u −= pN^I G^I,  R_λ = −A^I g^I
+//!                          otherwise:  R_λ = −A^I λN^I / εN
+//! ```
+//! which is the gradient of the augmented Lagrangian, so the tangent is
+//! symmetric (LDLᵀ-ready). The thermal terms have the same structure with
+//! `γθ^I = ⟨N^I ϑc⟩/A^I` and `h0^I`, the flux *into* the slave.
+
+use std::collections::BTreeSet;
+
+use crate::basis::bspline::basis_ders;
+use crate::contact::kinematics::{Derivatives, PointGeometry, differentiate};
+use crate::contact::projection::{Projection, project};
+use crate::contact::{ContactSettings, ThermalContact, ThermalEnforcement, ThermalMethod};
+use crate::geometry::{NurbsPatch, Side};
+use crate::solve::dofs::DofMap;
+use crate::{Error, Result};
+
+/// One slave integration point (reference data).
+#[derive(Clone, Debug)]
+pub struct SlavePoint {
+    /// Slave face element index.
+    pub element: usize,
+    /// Slave control points of the element, as indices into the slave face nodes.
+    pub conn: Vec<usize>,
+    /// Basis values at the point.
+    pub basis: Vec<f64>,
+    /// Gauss weight × reference line Jacobian.
+    pub weight: f64,
+}
+
+/// What one integration point sees in the current configuration.
+#[derive(Clone, Debug, Default)]
+pub struct PointState {
+    /// Master face node indices (into the master face nodes) of the span.
+    pub master: Vec<usize>,
+    /// The projection.
+    pub projection: Projection,
+    /// Gap with derivatives.
+    pub gap: Derivatives,
+    /// Temperature jump with derivatives.
+    pub jump: Derivatives,
+}
+
+/// Which multiplier families are unknowns.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Unknowns {
+    /// Normal contact multipliers λN.
+    pub mechanical: bool,
+    /// Thermal multipliers λθ (augmented Lagrangian constraint model).
+    pub thermal: bool,
+    /// Whether the thermal contact terms are assembled at all.
+    pub thermal_terms: bool,
+    /// Whether the mechanical contact terms are assembled at all.
+    pub mechanical_terms: bool,
+}
+
+/// A slave/master pair of curves in contact.
+pub struct ContactInterface {
+    /// Settings (penalties scaled).
+    pub settings: ContactSettings,
+    /// Global node numbers of the slave face control points.
+    pub slave_nodes: Vec<usize>,
+    /// Global node numbers of the master face control points.
+    pub master_nodes: Vec<usize>,
+    master_face: NurbsPatch,
+    master_ref: Vec<[f64; 3]>,
+    slave_ref: Vec<[f64; 3]>,
+    /// Integration points.
+    pub points: Vec<SlavePoint>,
+    /// Lumped areas `⟨N^I⟩` (4.8).
+    pub lumped_area: Vec<f64>,
+    /// Points touching each slave node.
+    node_points: Vec<Vec<usize>>,
+    /// The slave node whose contact element carries a point's continuum terms.
+    owner: Vec<usize>,
+    /// Period of the master (PR conditions), scaled.
+    pub period: Option<f64>,
+    normal_sign: f64,
+    normal_up: bool,
+    /// Mechanical penalty εN (scaled).
+    pub eps_n: f64,
+    /// Thermal penalty εθ (scaled).
+    pub eps_t: f64,
+    /// Current point states.
+    pub state: Vec<PointState>,
+    /// Normal multipliers λN^I.
+    pub lambda_n: Vec<f64>,
+    /// Thermal multipliers λθ^I.
+    pub lambda_t: Vec<f64>,
+    /// Mechanical active set.
+    pub active: Vec<bool>,
+    /// Frozen mechanical pressure and active set (thermal phase).
+    pub frozen: Option<(Vec<f64>, Vec<bool>)>,
+    /// Master face nodes coupled to each slave node in the current pattern.
+    pub band: Vec<BTreeSet<usize>>,
+}
+
+impl ContactInterface {
+    /// Sets up the interface between face (`dir`, `side`) of the slave patch
+    /// and of the master patch (both given with their global node offsets),
+    /// in scaled units (settings from [`ContactSettings::scaled`]).
+    pub fn new(
+        slave: (&NurbsPatch, usize, usize, Side),
+        master: (&NurbsPatch, usize, usize, Side),
+        settings: ContactSettings,
+        period: Option<f64>,
+    ) -> Result<Self> {
+        settings.validate()?;
+        let (sp, soff, sdir, sside) = slave;
+        let (mp, moff, mdir, mside) = master;
+        let (_, sidx) = sp.face(sdir, sside);
+        let (master_face, midx) = mp.face(mdir, mside);
+        if master_face.param_dim() != 1 {
+            return Err(Error::Geometry("contact is implemented for 2D bodies (curves)".into()));
+        }
+        let slave_nodes: Vec<usize> = sidx.iter().map(|i| i + soff).collect();
+        let master_nodes: Vec<usize> = midx.iter().map(|i| i + moff).collect();
+        let local_of = |g: usize| slave_nodes.iter().position(|&n| n == g + soff).expect("face node");
+        let mut points = Vec::new();
+        let mut lumped = vec![0.0; slave_nodes.len()];
+        let mut node_points = vec![Vec::new(); slave_nodes.len()];
+        let mut h_min = f64::INFINITY;
+        for (e, fe) in sp.face_quadrature(sdir, sside, settings.interface_points).into_iter().enumerate() {
+            let conn: Vec<usize> = fe.conn.iter().map(|&c| local_of(c)).collect();
+            let len: f64 = fe.points.iter().map(|q| q.weight).sum();
+            h_min = h_min.min(len);
+            for q in fe.points {
+                let id = points.len();
+                for (a, &i) in conn.iter().enumerate() {
+                    lumped[i] += q.weight * q.r[a];
+                    node_points[i].push(id);
+                }
+                points.push(SlavePoint { element: e, conn: conn.clone(), basis: q.r, weight: q.weight });
+            }
+        }
+        let owner = points
+            .iter()
+            .map(|p: &SlavePoint| {
+                let a = (0..p.basis.len()).fold(0, |b, a| if p.basis[a] > p.basis[b] { a } else { b });
+                p.conn[a]
+            })
+            .collect();
+        if lumped.iter().any(|&a| a <= 0.0) {
+            return Err(Error::Geometry("a lumped mortar area ⟨N^I⟩ is not positive".into()));
+        }
+        // The master's outward normal: the tangent (increasing parameter) turned
+        // counter-clockwise if the body lies to its right.
+        let mid = master_face.curve_derivatives(0.5 * (master_face.knots()[0].first() + master_face.knots()[0].last()), 1);
+        let fq = mp.face_quadrature(mdir, mside, 2);
+        let nrm = fq[fq.len() / 2].points[0].normal;
+        let ccw = [-mid[1][1], mid[1][0]];
+        let normal_sign = if ccw[0] * nrm[0] + ccw[1] * nrm[1] > 0.0 { 1.0 } else { -1.0 };
+        let n_s = slave_nodes.len();
+        let eps_n = settings.mechanical_penalty.unwrap_or(10.0) / h_min;
+        let eps_t = match settings.thermal {
+            ThermalContact::Constraint { penalty: Some(e), .. } => e,
+            _ => 10.0 / h_min,
+        };
+        Ok(ContactInterface {
+            slave_ref: sidx.iter().map(|&i| sp.control_points()[i]).collect(),
+            master_ref: midx.iter().map(|&i| mp.control_points()[i]).collect(),
+            master_face,
+            settings,
+            slave_nodes,
+            master_nodes,
+            points,
+            lumped_area: lumped,
+            node_points,
+            owner,
+            period,
+            normal_sign,
+            normal_up: nrm[1] > 0.0,
+            eps_n,
+            eps_t,
+            state: Vec::new(),
+            lambda_n: vec![0.0; n_s],
+            lambda_t: vec![0.0; n_s],
+            active: vec![false; n_s],
+            frozen: None,
+            band: vec![BTreeSet::new(); n_s],
+        })
+    }
+
+    /// Whether the master's outward normal points in +y (master below the slave).
+    pub fn normal_points_up(&self) -> bool {
+        self.normal_up
+    }
+
+    /// Number of slave control points (= multipliers per family).
+    pub fn n_slave(&self) -> usize {
+        self.slave_nodes.len()
+    }
+
+    /// Projects every integration point in the current configuration and
+    /// differentiates gap and jump. `state` holds `dim + 1 = 3` components per node.
+    pub fn prepare(&mut self, state: &[f64]) -> Result<()> {
+        let nf = 3;
+        let cur = |nodes: &[usize], refx: &[[f64; 3]]| -> Vec<[f64; 3]> {
+            nodes.iter().zip(refx).map(|(&n, x)| [x[0] + state[n * nf], x[1] + state[n * nf + 1], 0.0]).collect()
+        };
+        let master_cur = cur(&self.master_nodes, &self.master_ref);
+        let slave_cur = cur(&self.slave_nodes, &self.slave_ref);
+        let curve = NurbsPatch::new(self.master_face.knots().to_vec(), master_cur, self.master_face.weights().to_vec())?;
+        let kv = &curve.knots()[0];
+        let p = kv.degree();
+        let previous = std::mem::take(&mut self.state);
+        let mut out = Vec::with_capacity(self.points.len());
+        for (i, sp) in self.points.iter().enumerate() {
+            let mut xs = [0.0; 2];
+            for (a, &c) in sp.conn.iter().enumerate() {
+                xs[0] += sp.basis[a] * slave_cur[c][0];
+                xs[1] += sp.basis[a] * slave_cur[c][1];
+            }
+            let guess = previous.get(i).map(|s| s.projection.eta);
+            let pr = project(&curve, xs, guess, self.period)?;
+            let span = kv.find_span(pr.eta);
+            let ders = basis_ders(kv, span, pr.eta, p);
+            let master: Vec<usize> = (span - p..=span).collect();
+            let geo = PointGeometry {
+                slave_basis: sp.basis.clone(),
+                slave_x: sp.conn.iter().map(|&c| [self.slave_ref[c][0], self.slave_ref[c][1]]).collect(),
+                master_x: master.iter().map(|&j| [self.master_ref[j][0] + pr.shift, self.master_ref[j][1]]).collect(),
+                master_w: master.iter().map(|&j| self.master_face.weights()[j]).collect(),
+                master_ders: ders,
+                normal_sign: self.normal_sign,
+                clamped: pr.clamped,
+            };
+            let mut z = Vec::with_capacity(geo.n_local());
+            for &c in &sp.conn {
+                let n = self.slave_nodes[c];
+                z.extend_from_slice(&state[n * nf..n * nf + 3]);
+            }
+            for &j in &master {
+                let n = self.master_nodes[j];
+                z.extend_from_slice(&state[n * nf..n * nf + 3]);
+            }
+            let (gap, jump) = differentiate(&geo, &z);
+            out.push(PointState { master, projection: pr, gap, jump });
+        }
+        self.state = out;
+        Ok(())
+    }
+
+    /// Local unknowns `(node, field)` of integration point `q`, in the order of its kinematics.
+    fn point_dofs(&self, q: usize) -> Vec<(usize, usize)> {
+        let mut v = Vec::new();
+        for &c in &self.points[q].conn {
+            for f in 0..3 {
+                v.push((self.slave_nodes[c], f));
+            }
+        }
+        for &j in &self.state[q].master {
+            for f in 0..3 {
+                v.push((self.master_nodes[j], f));
+            }
+        }
+        v
+    }
+
+    /// Whether the current projections stay within the coupling band of the
+    /// pattern; if not, widens the band and returns `true` (pattern changed).
+    pub fn update_band(&mut self) -> bool {
+        let n_m = self.master_nodes.len();
+        let mut changed = false;
+        for i in 0..self.n_slave() {
+            let mut need = BTreeSet::new();
+            for &q in &self.node_points[i] {
+                for &j in &self.state[q].master {
+                    need.insert(j);
+                }
+            }
+            if !need.is_subset(&self.band[i]) {
+                changed = true;
+                let (lo, hi) = (*need.first().unwrap(), *need.last().unwrap());
+                let p = self.master_face.knots()[0].degree();
+                let widen = p + 1;
+                for j in lo.saturating_sub(widen)..=(hi + widen).min(n_m - 1) {
+                    self.band[i].insert(j);
+                }
+                if self.period.is_some() {
+                    // Near the seam the images wrap around.
+                    for j in need {
+                        self.band[i].insert(j);
+                    }
+                }
+            }
+        }
+        changed
+    }
+
+    /// Unknowns `(node, field)` of the contact element of slave node `i`
+    /// (multipliers not included), in a fixed order.
+    pub fn element_dofs(&self, i: usize) -> Vec<(usize, usize)> {
+        let mut set = BTreeSet::new();
+        for &q in &self.node_points[i] {
+            for &c in &self.points[q].conn {
+                for f in 0..3 {
+                    set.insert((self.slave_nodes[c], f));
+                }
+            }
+        }
+        for &j in &self.band[i] {
+            for f in 0..3 {
+                set.insert((self.master_nodes[j], f));
+            }
+        }
+        set.into_iter().collect()
+    }
+
+    /// Equations of the contact element of slave node `i`: its unknowns, then
+    /// λN^I and λθ^I when they are unknowns (`mult_eq`: first equation of each family).
+    pub fn element_eqs(&self, i: usize, dofs: &DofMap, mult_eq: (Option<usize>, Option<usize>)) -> Vec<Option<usize>> {
+        let mut v: Vec<Option<usize>> = self.element_dofs(i).into_iter().map(|(n, f)| dofs.eq(n, f)).collect();
+        if let Some(e) = mult_eq.0 {
+            v.push(Some(e + i));
+        }
+        if let Some(e) = mult_eq.1 {
+            v.push(Some(e + i));
+        }
+        v
+    }
+
+    /// Weighted gap `g^I` (4.8) at the current state.
+    pub fn weighted_gap(&self, i: usize) -> f64 {
+        let s: f64 = self.node_points[i].iter().map(|&q| self.weight_of(q, i) * self.state[q].gap.value).sum();
+        s / self.lumped_area[i]
+    }
+
+    /// Lumped mortar temperature jump `γθ^I` (4.8).
+    pub fn weighted_jump(&self, i: usize) -> f64 {
+        let s: f64 = self.node_points[i].iter().map(|&q| self.weight_of(q, i) * self.state[q].jump.value).sum();
+        s / self.lumped_area[i]
+    }
+
+    fn weight_of(&self, q: usize, i: usize) -> f64 {
+        let sp = &self.points[q];
+        let a = sp.conn.iter().position(|&c| c == i).expect("point touches node");
+        sp.weight * sp.basis[a]
+    }
+
+    /// Contact pressure `pN^I = λN^I − εN g^I` (positive in compression).
+    pub fn pressure(&self, i: usize) -> f64 {
+        if let Some((p, _)) = &self.frozen {
+            return p[i];
+        }
+        self.lambda_n[i] - self.eps_n * self.weighted_gap(i)
+    }
+
+    /// Whether slave node `i` is in the mechanical active set.
+    pub fn is_active(&self, i: usize) -> bool {
+        match &self.frozen {
+            Some((_, a)) => a[i],
+            None => self.pressure(i) > 0.0,
+        }
+    }
+
+    /// Freezes pressures and the active set (the thermal phase on a frozen configuration).
+    pub fn freeze(&mut self) {
+        let p: Vec<f64> = (0..self.n_slave()).map(|i| self.pressure(i).max(0.0)).collect();
+        let a: Vec<bool> = (0..self.n_slave()).map(|i| self.is_active(i)).collect();
+        self.frozen = Some((p, a));
+    }
+
+    /// Adds the contact element of slave node `i` to `k` (column-major, n×n) and `r`.
+    /// `layout` says which multipliers the element carries (see [`ContactInterface::element_eqs`]).
+    pub fn element(&self, i: usize, unknowns: Unknowns, mut k: Option<&mut [f64]>, r: &mut [f64]) {
+        let dofs = self.element_dofs(i);
+        let nd = dofs.len();
+        let n = r.len();
+        let iln = if unknowns.mechanical { Some(nd) } else { None };
+        let ilt = if unknowns.thermal { Some(nd + usize::from(unknowns.mechanical)) } else { None };
+        let area = self.lumped_area[i];
+        // Accumulate G, H (gap) and Gt, Ht (jump) over the node's points.
+        let (mut g, mut gt) = (vec![0.0; nd], vec![0.0; nd]);
+        let want_h = k.is_some();
+        let (mut h, mut ht) = if want_h { (vec![0.0; nd * nd], vec![0.0; nd * nd]) } else { (Vec::new(), Vec::new()) };
+        let (mut gs, mut gts) = (0.0, 0.0);
+        for &q in &self.node_points[i] {
+            let w = self.weight_of(q, i);
+            let pd = self.point_dofs(q);
+            let map: Vec<Option<usize>> = pd.iter().map(|d| dofs.binary_search(d).ok()).collect();
+            let st = &self.state[q];
+            gs += w * st.gap.value;
+            gts += w * st.jump.value;
+            let m = pd.len();
+            for (a, ia) in map.iter().enumerate() {
+                let Some(ia) = *ia else { continue };
+                g[ia] += w * st.gap.grad[a];
+                gt[ia] += w * st.jump.grad[a];
+                if want_h {
+                    for (b, ib) in map.iter().enumerate() {
+                        let Some(ib) = *ib else { continue };
+                        h[ia * nd + ib] += w * st.gap.hess[a * m + b];
+                        ht[ia * nd + ib] += w * st.jump.hess[a * m + b];
+                    }
+                }
+            }
+        }
+        let mut add_k = |row: usize, col: usize, v: f64| {
+            if let Some(k) = k.as_deref_mut() {
+                k[row + n * col] += v;
+            }
+        };
+        // Mechanical: Alart–Curnier augmented Lagrangian.
+        let frozen = self.frozen.is_some();
+        let active = self.is_active(i);
+        if unknowns.mechanical_terms && !frozen {
+            let lam = self.lambda_n[i];
+            let gi = gs / area;
+            let pn = lam - self.eps_n * gi;
+            if active {
+                for a in 0..nd {
+                    r[a] -= pn * g[a];
+                }
+                if let Some(il) = iln {
+                    r[il] -= gs;
+                }
+                if want_h {
+                    for a in 0..nd {
+                        for b in 0..nd {
+                            add_k(a, b, -pn * h[a * nd + b] + self.eps_n * g[a] * g[b] / area);
+                        }
+                        if let Some(il) = iln {
+                            add_k(a, il, -g[a]);
+                            add_k(il, a, -g[a]);
+                        }
+                    }
+                }
+            } else if let Some(il) = iln {
+                r[il] -= area * lam / self.eps_n;
+                add_k(il, il, -area / self.eps_n);
+            }
+        }
+        if !unknowns.thermal_terms {
+            return;
+        }
+        if self.settings.thermal_method == ThermalMethod::Continuum {
+            for &q in &self.node_points[i] {
+                if self.owner[q] != i {
+                    continue;
+                }
+                let pd = self.point_dofs(q);
+                let map: Vec<Option<usize>> = pd.iter().map(|d| dofs.binary_search(d).ok()).collect();
+                self.continuum_point(q, &map, &mut add_k, r);
+            }
+            return;
+        }
+        let gamma = gts / area;
+        match self.settings.thermal {
+            ThermalContact::Constraint { enforcement: ThermalEnforcement::AugmentedLagrangian, .. } => {
+                let il = ilt.expect("thermal multipliers are unknowns with the augmented Lagrangian");
+                let lam = self.lambda_t[i];
+                if active {
+                    let h0 = lam - self.eps_t * gamma;
+                    for a in 0..nd {
+                        r[a] -= h0 * gt[a];
+                    }
+                    r[il] -= gts;
+                    if want_h {
+                        for a in 0..nd {
+                            for b in 0..nd {
+                                add_k(a, b, -h0 * ht[a * nd + b] + self.eps_t * gt[a] * gt[b] / area);
+                            }
+                            add_k(a, il, -gt[a]);
+                            add_k(il, a, -gt[a]);
+                        }
+                    }
+                } else {
+                    r[il] -= area * lam / self.eps_t;
+                    add_k(il, il, -area / self.eps_t);
+                }
+            }
+            ThermalContact::Constraint { enforcement: ThermalEnforcement::Penalty, .. } => {
+                if active {
+                    // h0 = −εθ γθ (4.7)
+                    let h0 = -self.eps_t * gamma;
+                    for a in 0..nd {
+                        r[a] -= h0 * gt[a];
+                    }
+                    if want_h {
+                        for a in 0..nd {
+                            for b in 0..nd {
+                                add_k(a, b, -h0 * ht[a * nd + b] + self.eps_t * gt[a] * gt[b] / area);
+                            }
+                        }
+                    }
+                }
+            }
+            ThermalContact::Constitutive { conductance_coefficient: kt, pressure_exponent: alpha } => {
+                if active {
+                    let pn = self.pressure(i).max(0.0);
+                    let c = kt * pn.powf(alpha);
+                    let h0 = -c * gamma;
+                    for a in 0..nd {
+                        r[a] -= h0 * gt[a];
+                    }
+                    if want_h {
+                        // dpN/du = −εN G/A, dpN/dλN = 1 (when not frozen)
+                        let dc = if pn > 0.0 { kt * alpha * pn.powf(alpha - 1.0) } else { 0.0 };
+                        for a in 0..nd {
+                            for b in 0..nd {
+                                let mut v = c * (gt[a] * gt[b] / area) - h0 * ht[a * nd + b];
+                                if !frozen {
+                                    v += dc * gamma * gt[a] * (-self.eps_n * g[b] / area);
+                                }
+                                add_k(a, b, v);
+                            }
+                            if !frozen && let Some(il) = iln {
+                                add_k(a, il, dc * gamma * gt[a]);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Continuum (pointwise) thermal contact at integration point `q` (paper
+    /// Sects. 5.1–5.2): `h0 = −εθ ϑc` or `−kθ pN^α ϑc` at the point, the
+    /// pressure interpolated from the slave control points (frozen in its
+    /// linearization). `map` takes the point's unknowns to the element's.
+    fn continuum_point(&self, q: usize, map: &[Option<usize>], add_k: &mut impl FnMut(usize, usize, f64), r: &mut [f64]) {
+        let sp = &self.points[q];
+        let st = &self.state[q];
+        let pn: f64 = sp.conn.iter().zip(&sp.basis).map(|(&c, n)| n * self.pressure(c).max(0.0)).sum();
+        if pn <= 0.0 {
+            return;
+        }
+        let c = match self.settings.thermal {
+            ThermalContact::Constraint { .. } => self.eps_t,
+            ThermalContact::Constitutive { conductance_coefficient, pressure_exponent } => {
+                conductance_coefficient * pn.powf(pressure_exponent)
+            }
+        };
+        let m = map.len();
+        let h0 = -c * st.jump.value;
+        for (a, ia) in map.iter().enumerate() {
+            let Some(ia) = *ia else { continue };
+            r[ia] -= sp.weight * h0 * st.jump.grad[a];
+            for (b, ib) in map.iter().enumerate() {
+                let Some(ib) = *ib else { continue };
+                add_k(ia, ib, sp.weight * (c * st.jump.grad[a] * st.jump.grad[b] - h0 * st.jump.hess[a * m + b]));
+            }
+        }
+    }
+}

@@ -1,0 +1,313 @@
+//! The case file of `tcgen solve` (TOML, SI units, Table I defaults); every
+//! key is documented in `schemas/case.md`.
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use crate::contact::ContactSettings;
+use crate::material::Material;
+use crate::solve::{LoadStepping, NewtonSettings};
+use crate::surface::SurfaceSpec;
+use crate::{Error, Result};
+
+/// Lateral boundary condition (2.3).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum LateralCondition {
+    /// PR: periodic displacement and temperature, sliding allowed.
+    #[default]
+    Periodic,
+    /// LN: normal displacement zero, tangentially free, adiabatic.
+    Linear,
+}
+
+/// `[sample]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SampleSection {
+    /// Sample width `W` (m).
+    pub width: f64,
+    /// Height `H0` of each body from the mean plane of its surface (m).
+    pub height: f64,
+    /// Lateral condition.
+    pub lateral: LateralCondition,
+}
+
+impl Default for SampleSection {
+    fn default() -> Self {
+        SampleSection { width: 1.0e-5, height: 7.0e-6, lateral: LateralCondition::Periodic }
+    }
+}
+
+/// `[surface]`: `upper` (body 1) and `lower` (body 2).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SurfaceSection {
+    /// Body 1 (upper) surface.
+    pub upper: SurfaceSpec,
+    /// Body 2 (lower) surface.
+    pub lower: SurfaceSpec,
+}
+
+/// `[discretization]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct DiscretizationSection {
+    /// NURBS degree `p` (both directions, both bodies).
+    pub degree: usize,
+    /// Elements of the upper body `[along x, through the height]`.
+    pub elements_upper: [usize; 2],
+    /// Elements of the lower body.
+    pub elements_lower: [usize; 2],
+    /// Bulk Gauss points per direction (default `p + 2`).
+    pub bulk_points: Option<usize>,
+}
+
+impl Default for DiscretizationSection {
+    fn default() -> Self {
+        DiscretizationSection { degree: 2, elements_upper: [32, 16], elements_lower: [27, 14], bulk_points: None }
+    }
+}
+
+/// `[load]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct LoadSection {
+    /// Macroscopic pressures `p̄N` (Pa), solved in the given order as one path.
+    pub pressures: Vec<f64>,
+    /// Macroscopic heat flux magnitude `|h̄|` (W/m²), from the upper to the lower body.
+    pub flux: f64,
+    /// Macroscopic contact temperature `θ̄c` (K).
+    pub contact_temperature: f64,
+}
+
+impl Default for LoadSection {
+    fn default() -> Self {
+        LoadSection { pressures: vec![1.0e3, 1.0e4, 1.0e5], flux: 1.0e6, contact_temperature: 293.15 }
+    }
+}
+
+/// Identification of the macroscopic jump (spec §8).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Method {
+    /// Two-phase self-consistent (Sect. 3.3).
+    #[default]
+    TwoPhaseSelfConsistent,
+    /// Two-phase (Sect. 3.1).
+    TwoPhase,
+    /// Coupled OHP, identification (2.14).
+    Coupled,
+    /// Coupled OHP, linearized identification (3.4).
+    Linearized,
+}
+
+/// Which body is the (macroscopic algorithmic) master.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MasterBody {
+    /// Body 2 (default).
+    #[default]
+    Lower,
+    /// Body 1.
+    Upper,
+}
+
+/// `[homogenization]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct HomogenizationSection {
+    /// Identification method.
+    pub method: Method,
+    /// Master body.
+    pub master: MasterBody,
+    /// Relative tolerance of the self-consistency iterations on the jump.
+    pub tolerance: f64,
+    /// Maximum self-consistency iterations.
+    pub max_iterations: usize,
+}
+
+impl Default for HomogenizationSection {
+    fn default() -> Self {
+        HomogenizationSection { method: Method::default(), master: MasterBody::Lower, tolerance: 1e-6, max_iterations: 20 }
+    }
+}
+
+/// `[solver]`: Newton and load stepping (scaled units).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SolverSection {
+    /// Newton settings.
+    pub newton: NewtonSettings,
+    /// Load stepping.
+    pub stepping: LoadStepping,
+}
+
+/// A whole case file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Case {
+    /// `[sample]`.
+    #[serde(default)]
+    pub sample: SampleSection,
+    /// `[surface]`.
+    pub surface: SurfaceSection,
+    /// `[material]` with optional `[material.upper]` / `[material.lower]` overrides.
+    #[serde(default)]
+    pub material: toml::Table,
+    /// `[discretization]`.
+    #[serde(default)]
+    pub discretization: DiscretizationSection,
+    /// `[contact]`.
+    #[serde(default)]
+    pub contact: ContactSettings,
+    /// `[load]`.
+    #[serde(default)]
+    pub load: LoadSection,
+    /// `[homogenization]`.
+    #[serde(default)]
+    pub homogenization: HomogenizationSection,
+    /// `[solver]`.
+    #[serde(default)]
+    pub solver: SolverSection,
+    /// Directory that relative paths in the case refer to (not a key).
+    #[serde(skip)]
+    pub base_dir: PathBuf,
+}
+
+fn positive(key: &str, v: f64, unit: &str) -> Result<()> {
+    if v.is_finite() && v > 0.0 { Ok(()) } else { Err(Error::invalid(key, v, format!("a finite number > 0 ({unit})"))) }
+}
+
+impl Case {
+    /// Parses TOML text; `base_dir` resolves relative paths.
+    pub fn from_toml(text: &str, base_dir: &Path) -> Result<Self> {
+        let mut c: Case = toml::from_str(text).map_err(|e| Error::Config(e.to_string()))?;
+        c.base_dir = base_dir.to_path_buf();
+        c.validate()?;
+        Ok(c)
+    }
+
+    /// Reads and validates a case file.
+    pub fn read(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::Io { path: path.display().to_string(), source: e })?;
+        let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        Case::from_toml(&text, &dir).map_err(|e| match e {
+            Error::Config(m) => Error::Config(format!("{}: {m}", path.display())),
+            other => other,
+        })
+    }
+
+    /// The materials of the (upper, lower) bodies: Table I defaults, then
+    /// `[material]`, then `[material.upper]` / `[material.lower]`.
+    pub fn materials(&self) -> Result<(Material, Material)> {
+        let mut base = self.material.clone();
+        let upper = base.remove("upper");
+        let lower = base.remove("lower");
+        let resolve = |over: Option<toml::Value>, key: &str| -> Result<Material> {
+            let mut t = base.clone();
+            match over {
+                Some(toml::Value::Table(o)) => t.extend(o),
+                Some(v) => return Err(Error::invalid(key, v, "a table of material keys")),
+                None => {}
+            }
+            let m: Material = toml::Value::Table(t).try_into().map_err(|e: toml::de::Error| Error::Config(format!("[{key}]: {e}")))?;
+            m.validate(key)?;
+            Ok(m)
+        };
+        Ok((resolve(upper, "material.upper")?, resolve(lower, "material.lower")?))
+    }
+
+    /// Checks every key's range; the error names the key.
+    pub fn validate(&self) -> Result<()> {
+        positive("sample.width", self.sample.width, "m")?;
+        positive("sample.height", self.sample.height, "m")?;
+        self.surface.upper.validate("surface.upper", self.sample.width)?;
+        self.surface.lower.validate("surface.lower", self.sample.width)?;
+        self.materials()?;
+        let d = &self.discretization;
+        if !(1..=5).contains(&d.degree) {
+            return Err(Error::invalid("discretization.degree", d.degree, "an integer in 1..=5"));
+        }
+        for (key, e) in [("discretization.elements_upper", d.elements_upper), ("discretization.elements_lower", d.elements_lower)] {
+            if e.iter().any(|&n| !(1..=4096).contains(&n)) {
+                return Err(Error::invalid(key, format!("{e:?}"), "two element counts in 1..=4096"));
+            }
+        }
+        if let Some(n) = d.bulk_points
+            && !(1..=16).contains(&n)
+        {
+            return Err(Error::invalid("discretization.bulk_points", n, "an integer in 1..=16"));
+        }
+        self.contact.validate()?;
+        if self.load.pressures.is_empty() {
+            return Err(Error::invalid("load.pressures", "[]", "at least one pressure (Pa)"));
+        }
+        for p in &self.load.pressures {
+            positive("load.pressures", *p, "Pa")?;
+        }
+        if !(self.load.flux.is_finite() && self.load.flux >= 0.0) {
+            return Err(Error::invalid("load.flux", self.load.flux, "a finite number >= 0 (W/m²)"));
+        }
+        positive("load.contact_temperature", self.load.contact_temperature, "K")?;
+        let h = &self.homogenization;
+        if !(h.tolerance.is_finite() && h.tolerance > 0.0 && h.tolerance < 1.0) {
+            return Err(Error::invalid("homogenization.tolerance", h.tolerance, "a number in (0, 1)"));
+        }
+        if !(1..=1000).contains(&h.max_iterations) {
+            return Err(Error::invalid("homogenization.max_iterations", h.max_iterations, "an integer in 1..=1000"));
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const MINIMAL: &str = r#"
+[surface.upper]
+kind = "sinusoid"
+rms = 1.0e-6
+wavelength = 1.0e-5
+[surface.lower]
+kind = "flat"
+"#;
+
+    #[test]
+    fn defaults_are_table_i() {
+        let c = Case::from_toml(MINIMAL, Path::new(".")).unwrap();
+        let (u, l) = c.materials().unwrap();
+        assert_eq!(u, Material::default());
+        assert_eq!(l, Material::default());
+        assert_eq!(c.discretization.degree, 2);
+    }
+
+    #[test]
+    fn per_body_material_overrides() {
+        let t = format!("{MINIMAL}\n[material]\nyoungs_modulus = 2.0e6\n[material.lower]\npoisson_ratio = 0.2\n");
+        let c = Case::from_toml(&t, Path::new(".")).unwrap();
+        let (u, l) = c.materials().unwrap();
+        assert_eq!(u.youngs_modulus, 2.0e6);
+        assert_eq!(l.youngs_modulus, 2.0e6);
+        assert_eq!(u.poisson_ratio, 0.3);
+        assert_eq!(l.poisson_ratio, 0.2);
+    }
+
+    #[test]
+    fn errors_name_the_key() {
+        for (extra, key) in [
+            ("[material]\npoisson_ratio = 0.7\n", "poisson_ratio"),
+            ("[load]\npressures = [-1.0]\n", "load.pressures"),
+            ("[discretization]\ndegree = 0\n", "discretization.degree"),
+            ("[sample]\nwidth = -1.0\n", "sample.width"),
+            ("[contact]\nthermal = \"constitutive\"\nconductance_coefficient = -1.0\npressure_exponent = 1.0\n", "conductance_coefficient"),
+            ("[load]\nflux = nan\n", "load.flux"),
+            ("[sample]\nwidht = 1.0\n", "widht"),
+        ] {
+            let e = Case::from_toml(&format!("{MINIMAL}\n{extra}"), Path::new(".")).unwrap_err().to_string();
+            assert!(e.contains(key), "{key}: {e}");
+        }
+    }
+}

@@ -1,0 +1,770 @@
+//! A discretized boundary-value problem: NURBS bodies, their materials, the
+//! boundary conditions of spec §5, and the state; it implements
+//! [`NonlinearProblem`] for Newton's method.
+//!
+//! Every node (control point) carries `dim + 1` components, the displacement
+//! then the temperature, whatever the [`Coupling`]: in the mechanical phase
+//! the temperatures are prescribed (frozen), in the thermal phase the
+//! displacements are. The input is in SI; the model works in the scaled units
+//! of [`Scales`].
+
+use std::sync::Arc;
+
+use nalgebra::Vector3;
+
+use crate::bulk::global::Assembly;
+use crate::contact::{ContactInterface, ContactSettings, Unknowns};
+use crate::bulk::local::{Coupling, ElementFields, element_residual_tangent};
+use crate::geometry::{ElementQuadrature, NurbsPatch, Side};
+use crate::material::Material;
+use crate::quadrature::default_bulk_points;
+use crate::solve::dofs::{DofMap, DofMapBuilder};
+use crate::solve::linear::{Factorization, Ordering};
+use crate::solve::newton::NonlinearProblem;
+use crate::solve::ordering::nested_dissection;
+use crate::solve::scales::Scales;
+use crate::{Error, Result};
+
+/// Body sources `(B, R)` at a point, in SI, for manufactured solutions.
+pub type SourceFn = Arc<dyn Fn(&[f64; 3]) -> (Vector3<f64>, f64) + Send + Sync>;
+
+/// One NURBS body, in scaled units, with its precomputed bulk quadrature.
+pub struct Body {
+    /// Name used in messages and output.
+    pub name: String,
+    /// The geometry (scaled).
+    pub patch: NurbsPatch,
+    /// The material (scaled).
+    pub material: Material,
+    /// Index of the body's first control point among all nodes.
+    pub node_offset: usize,
+    /// Bulk quadrature of every element (connectivity local to the patch).
+    pub quadrature: Vec<ElementQuadrature>,
+}
+
+impl Body {
+    /// Global node numbers of the control points on a face.
+    pub fn face_nodes(&self, dir: usize, side: Side) -> Vec<usize> {
+        self.patch.face(dir, side).1.into_iter().map(|i| i + self.node_offset).collect()
+    }
+}
+
+/// A boundary load on a body face, SI, at load factor 1.
+#[derive(Clone, Debug)]
+enum FaceLoad {
+    /// Dead traction per reference area (Pa).
+    Traction([f64; 3]),
+    /// Heat flux into the body per reference area (W/m²).
+    Flux(f64),
+}
+
+/// Builds a [`Model`] from SI input.
+pub struct ModelBuilder {
+    dim: usize,
+    scales: Scales,
+    bodies: Vec<Body>,
+    fixes: Vec<(usize, usize, f64)>,
+    ties: Vec<((usize, usize), (usize, usize))>,
+    loads: Vec<(usize, usize, Side, FaceLoad)>,
+    point_loads: Vec<(usize, usize, f64)>,
+    initial_temperature: f64,
+    sources: Option<SourceFn>,
+    bulk_points: Option<usize>,
+    platens: Vec<Platen>,
+    contact: Option<ContactInterface>,
+    soft_pin: Option<(usize, usize)>,
+}
+
+/// A rigid platen: the face's nodes share the displacement component `field`.
+#[derive(Clone, Debug)]
+pub struct Platen {
+    /// The (global) nodes of the face.
+    pub nodes: Vec<usize>,
+    /// The displacement component they share.
+    pub field: usize,
+    /// The face area (scaled).
+    pub area: f64,
+}
+
+impl ModelBuilder {
+    /// An empty model of spatial dimension `dim` (2: plane strain, or 3).
+    pub fn new(dim: usize, scales: Scales) -> Self {
+        assert!(dim == 2 || dim == 3, "dimension must be 2 or 3");
+        ModelBuilder {
+            dim,
+            scales,
+            bodies: Vec::new(),
+            fixes: Vec::new(),
+            ties: Vec::new(),
+            loads: Vec::new(),
+            point_loads: Vec::new(),
+            initial_temperature: f64::NAN,
+            sources: None,
+            bulk_points: None,
+            platens: Vec::new(),
+            contact: None,
+            soft_pin: None,
+        }
+    }
+
+    /// Mortar contact between a face of the `slave` body and a face of the
+    /// `master` body (spec §6). `period`: the sample width (m) for PR conditions.
+    pub fn contact(
+        &mut self,
+        slave: (usize, usize, Side),
+        master: (usize, usize, Side),
+        settings: &ContactSettings,
+        period: Option<f64>,
+    ) -> Result<()> {
+        let scaled = settings.scaled(&self.scales);
+        let (s, m) = (&self.bodies[slave.0], &self.bodies[master.0]);
+        self.contact = Some(ContactInterface::new(
+            (&s.patch, s.node_offset, slave.1, slave.2),
+            (&m.patch, m.node_offset, master.1, master.2),
+            scaled,
+            period.map(|w| self.scales.len(w)),
+        )?);
+        Ok(())
+    }
+
+    /// Regularizes the tangent (not the residual) of component `field` of
+    /// `node`: makes a free rigid mode (a body that may slide freely under PR
+    /// conditions) well-posed without imposing anything on the solution.
+    pub fn soft_pin(&mut self, node: usize, field: usize) {
+        self.soft_pin = Some((node, field));
+    }
+
+    /// The scales in use.
+    pub fn scales(&self) -> &Scales {
+        &self.scales
+    }
+
+    /// Overrides the bulk Gauss points per direction (default `p + 2`).
+    pub fn bulk_points(mut self, n: usize) -> Self {
+        self.bulk_points = Some(n);
+        self
+    }
+
+    /// Adds a body (geometry in m, material in SI); returns its index.
+    pub fn add_body(&mut self, name: &str, patch: &NurbsPatch, material: &Material) -> Result<usize> {
+        material.validate(&format!("material.{name}"))?;
+        if patch.param_dim() != self.dim {
+            return Err(Error::Geometry(format!(
+                "body `{name}` has {} parametric directions, the model is {}D",
+                patch.param_dim(),
+                self.dim
+            )));
+        }
+        let l = self.scales.length;
+        let pts: Vec<[f64; 3]> = patch.control_points().iter().map(|p| [p[0] / l, p[1] / l, p[2] / l]).collect();
+        let scaled = NurbsPatch::new(patch.knots().to_vec(), pts, patch.weights().to_vec())?;
+        let node_offset = self.bodies.iter().map(|b| b.patch.n_control_points()).sum();
+        let nq: Vec<usize> = scaled
+            .knots()
+            .iter()
+            .map(|k| self.bulk_points.unwrap_or_else(|| default_bulk_points(k.degree())))
+            .collect();
+        let quadrature = scaled.elements().iter().map(|e| scaled.element_quadrature(e, &nq)).collect();
+        self.bodies.push(Body {
+            name: name.to_string(),
+            material: self.scales.material(material),
+            patch: scaled,
+            node_offset,
+            quadrature,
+        });
+        Ok(self.bodies.len() - 1)
+    }
+
+    /// The bodies added so far.
+    pub fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+
+    fn scale_field(&self, field: usize, value: f64) -> f64 {
+        if field < self.dim { self.scales.len(value) } else { self.scales.temp(value) }
+    }
+
+    /// Prescribes component `field` (0..dim displacement in m, dim temperature in K) on a face.
+    pub fn fix_face(&mut self, body: usize, dir: usize, side: Side, field: usize, value: f64) {
+        let v = self.scale_field(field, value);
+        for n in self.bodies[body].face_nodes(dir, side) {
+            self.fixes.push((n, field, v));
+        }
+    }
+
+    /// Prescribes component `field` of one global node.
+    pub fn fix_node(&mut self, node: usize, field: usize, value: f64) {
+        let v = self.scale_field(field, value);
+        self.fixes.push((node, field, v));
+    }
+
+    /// Periodic (PR) lateral condition (2.3) across parametric direction
+    /// `dir`: every component of the High face equals that of the Low face.
+    pub fn periodic(&mut self, body: usize, dir: usize) {
+        let lo = self.bodies[body].face_nodes(dir, Side::Low);
+        let hi = self.bodies[body].face_nodes(dir, Side::High);
+        for (a, b) in lo.into_iter().zip(hi) {
+            for f in 0..=self.dim {
+                self.ties.push(((a, f), (b, f)));
+            }
+        }
+    }
+
+    /// Linear (LN) lateral condition (2.3) on the faces across `dir`: normal
+    /// displacement component `normal_field` zero, tangentially free,
+    /// adiabatic (natural).
+    pub fn linear_lateral(&mut self, body: usize, dir: usize, normal_field: usize) {
+        for side in [Side::Low, Side::High] {
+            self.fix_face(body, dir, side, normal_field, 0.0);
+        }
+    }
+
+    /// Rigid platen on a face: its nodes share displacement component
+    /// `field`, whose conjugate equation is the total force `pressure · |A|`
+    /// pushing into the body (spec §5). Returns the platen index.
+    pub fn platen(&mut self, body: usize, dir: usize, side: Side, field: usize, pressure: f64) -> usize {
+        let nodes = self.bodies[body].face_nodes(dir, side);
+        for w in nodes.windows(2) {
+            self.ties.push(((w[0], field), (w[1], field)));
+        }
+        let area: f64 = self.bodies[body]
+            .patch
+            .face_quadrature(dir, side, 4)
+            .iter()
+            .flat_map(|e| e.points.iter().map(|p| p.weight))
+            .sum();
+        let sign = if side == Side::High { -1.0 } else { 1.0 };
+        let force = sign * self.scales.pres(pressure) * area;
+        self.point_loads.push((nodes[0], field, force));
+        self.platens.push(Platen { nodes, field, area });
+        self.platens.len() - 1
+    }
+
+    /// Uniform dead traction (Pa, per reference area) on a face.
+    pub fn traction(&mut self, body: usize, dir: usize, side: Side, t: [f64; 3]) {
+        let s = self.scales.stress;
+        self.loads.push((body, dir, side, FaceLoad::Traction([t[0] / s, t[1] / s, t[2] / s])));
+    }
+
+    /// Uniform heat flux into the body (W/m², per reference area) on a face.
+    pub fn flux(&mut self, body: usize, dir: usize, side: Side, h_in: f64) {
+        let h = self.scales.heat(h_in);
+        self.loads.push((body, dir, side, FaceLoad::Flux(h)));
+    }
+
+    /// The uniform initial temperature (K); default the first body's θ0.
+    pub fn initial_temperature(&mut self, theta: f64) {
+        self.initial_temperature = theta;
+    }
+
+    /// Body sources in SI (N/m³, W/m³) as functions of the SI position.
+    pub fn sources(&mut self, s: SourceFn) {
+        self.sources = Some(s);
+    }
+
+    /// Builds the model with the given coupling; the initial state is
+    /// `u = 0`, `θ` uniform.
+    pub fn build(self, coupling: Coupling) -> Result<Model> {
+        if self.bodies.is_empty() {
+            return Err(Error::Geometry("a model needs at least one body".into()));
+        }
+        let theta_init = if self.initial_temperature.is_nan() {
+            self.bodies[0].material.reference_temperature
+        } else {
+            self.scales.temp(self.initial_temperature)
+        };
+        let nf = self.dim + 1;
+        let n_nodes: usize = self.bodies.iter().map(|b| b.patch.n_control_points()).sum();
+        let mut state = vec![0.0; n_nodes * nf];
+        for n in 0..n_nodes {
+            state[n * nf + self.dim] = theta_init;
+        }
+        let mut f_mech = vec![0.0; n_nodes * nf];
+        let mut f_therm = vec![0.0; n_nodes * nf];
+        for (body, dir, side, load) in &self.loads {
+            let b = &self.bodies[*body];
+            for fe in b.patch.face_quadrature(*dir, *side, b.patch.knots()[0].degree() + 2) {
+                for qp in &fe.points {
+                    for (a, &c) in fe.conn.iter().enumerate() {
+                        let node = b.node_offset + c;
+                        match load {
+                            FaceLoad::Traction(t) => {
+                                for i in 0..self.dim {
+                                    f_mech[node * nf + i] += qp.weight * qp.r[a] * t[i];
+                                }
+                            }
+                            FaceLoad::Flux(h) => f_therm[node * nf + self.dim] += qp.weight * qp.r[a] * h,
+                        }
+                    }
+                }
+            }
+        }
+        for &(node, field, f) in &self.point_loads {
+            f_mech[node * nf + field] += f;
+        }
+        let mut model = Model {
+            dim: self.dim,
+            scales: self.scales,
+            bodies: self.bodies,
+            fixes: self.fixes,
+            ties: self.ties,
+            platens: self.platens,
+            sources: self.sources,
+            f_mech,
+            f_therm,
+            path: ([0.0, 0.0], [1.0, 1.0]),
+            load: [0.0, 0.0],
+            initial: state.clone(),
+            state,
+            load_factor: 0.0,
+            coupling,
+            contact: self.contact,
+            soft_pin: self.soft_pin,
+            soft_pin_eq: None,
+            n_bulk_eq: 0,
+            mult_eq: (None, None),
+            pattern_version: 0,
+            dofs: DofMapBuilder::new(0, 1).build()?,
+            assembly: Assembly::new(0, Vec::new()),
+            elements: Vec::new(),
+            eq_class: Vec::new(),
+            eq_coords: Vec::new(),
+        };
+        model.renumber()?;
+        Ok(model)
+    }
+}
+
+/// A discretized problem ready for Newton's method.
+pub struct Model {
+    /// Spatial dimension.
+    pub dim: usize,
+    /// Unit scales.
+    pub scales: Scales,
+    /// The bodies.
+    pub bodies: Vec<Body>,
+    fixes: Vec<(usize, usize, f64)>,
+    ties: Vec<((usize, usize), (usize, usize))>,
+    platens: Vec<Platen>,
+    sources: Option<SourceFn>,
+    /// External nodal forces at the nominal pressure (state layout, scaled).
+    f_mech: Vec<f64>,
+    /// External nodal heat inputs at the nominal flux (state layout, scaled).
+    f_therm: Vec<f64>,
+    /// Load path: (mechanical, thermal) multipliers of the nominal loads at
+    /// load factor 0 and 1.
+    path: ([f64; 2], [f64; 2]),
+    /// Current (mechanical, thermal) load multipliers.
+    load: [f64; 2],
+    /// The contact interface, if any.
+    pub contact: Option<ContactInterface>,
+    soft_pin: Option<(usize, usize)>,
+    soft_pin_eq: Option<usize>,
+    n_bulk_eq: usize,
+    mult_eq: (Option<usize>, Option<usize>),
+    pattern_version: u64,
+    /// The state at load factor 0 (prescribed values ramp from it).
+    initial: Vec<f64>,
+    /// Current state: `dim + 1` components per node (scaled).
+    pub state: Vec<f64>,
+    load_factor: f64,
+    coupling: Coupling,
+    dofs: DofMap,
+    assembly: Assembly,
+    elements: Vec<(usize, usize)>,
+    eq_class: Vec<usize>,
+    eq_coords: Vec<[f64; 3]>,
+}
+
+impl Model {
+    /// Which contact unknowns and terms the current coupling carries.
+    fn contact_unknowns(&self) -> Option<Unknowns> {
+        let c = self.contact.as_ref()?;
+        let thermal_mult = c.settings.thermal_multipliers();
+        Some(match self.coupling {
+            Coupling::Coupled => {
+                Unknowns { mechanical: true, thermal: thermal_mult, mechanical_terms: true, thermal_terms: true }
+            }
+            Coupling::Mechanical => {
+                Unknowns { mechanical: true, thermal: false, mechanical_terms: true, thermal_terms: false }
+            }
+            Coupling::Thermal => {
+                Unknowns { mechanical: false, thermal: thermal_mult, mechanical_terms: false, thermal_terms: true }
+            }
+        })
+    }
+
+    fn renumber(&mut self) -> Result<()> {
+        let nf = self.dim + 1;
+        let n_nodes = self.state.len() / nf;
+        let mut b = DofMapBuilder::new(n_nodes, nf);
+        for &(a, c) in &self.ties {
+            b.tie(a, c);
+        }
+        for &(n, f, v) in &self.fixes {
+            b.fix(n, f, v);
+        }
+        // Frozen fields: prescribed at their current values.
+        for n in 0..n_nodes {
+            match self.coupling {
+                Coupling::Mechanical => b.fix(n, self.dim, self.state[n * nf + self.dim]),
+                Coupling::Thermal => (0..self.dim).for_each(|f| b.fix(n, f, self.state[n * nf + f])),
+                Coupling::Coupled => {}
+            }
+        }
+        self.dofs = b.build()?;
+        self.n_bulk_eq = self.dofs.n_eq();
+        let mut n_eq = self.n_bulk_eq;
+        let mut classes: Vec<usize> = self.dofs.eq_fields().iter().map(|&f| usize::from(f == self.dim)).collect();
+        self.mult_eq = (None, None);
+        if let (Some(u), Some(c)) = (self.contact_unknowns(), self.contact.as_ref()) {
+            let ns = c.n_slave();
+            if u.mechanical {
+                self.mult_eq.0 = Some(n_eq);
+                n_eq += ns;
+                classes.extend(std::iter::repeat_n(2, ns));
+            }
+            if u.thermal {
+                self.mult_eq.1 = Some(n_eq);
+                n_eq += ns;
+                classes.extend(std::iter::repeat_n(3, ns));
+            }
+        }
+        self.eq_class = classes;
+        self.soft_pin_eq = self.soft_pin.and_then(|(n, f)| self.dofs.eq(n, f));
+        let mut coords = vec![[f64::NAN; 3]; n_eq];
+        for body in &self.bodies {
+            for (i, x) in body.patch.control_points().iter().enumerate() {
+                for f in 0..nf {
+                    if let Some(e) = self.dofs.eq(body.node_offset + i, f)
+                        && coords[e][0].is_nan()
+                    {
+                        coords[e] = *x;
+                    }
+                }
+            }
+        }
+        if let Some(c) = &self.contact {
+            for (i, &n) in c.slave_nodes.iter().enumerate() {
+                let x = self.node_position(n);
+                for e in [self.mult_eq.0, self.mult_eq.1].into_iter().flatten() {
+                    coords[e + i] = x;
+                }
+            }
+        }
+        self.eq_coords = coords;
+        self.rebuild_assembly();
+        Ok(())
+    }
+
+    /// Reference position of a global node (scaled).
+    fn node_position(&self, node: usize) -> [f64; 3] {
+        let b = self.bodies.iter().rev().find(|b| b.node_offset <= node).expect("node in a body");
+        b.patch.control_points()[node - b.node_offset]
+    }
+
+    fn rebuild_assembly(&mut self) {
+        let nf = self.dim + 1;
+        let fields: Vec<usize> = match self.coupling {
+            Coupling::Coupled => (0..nf).collect(),
+            Coupling::Mechanical => (0..self.dim).collect(),
+            Coupling::Thermal => vec![self.dim],
+        };
+        self.elements.clear();
+        let mut element_eqs = Vec::new();
+        for (bi, body) in self.bodies.iter().enumerate() {
+            for (ei, q) in body.quadrature.iter().enumerate() {
+                self.elements.push((bi, ei));
+                let conn: Vec<usize> = q.conn.iter().map(|c| c + body.node_offset).collect();
+                element_eqs.push(self.dofs.element_eqs(&conn, &fields));
+            }
+        }
+        if let Some(c) = &self.contact {
+            for i in 0..c.n_slave() {
+                element_eqs.push(c.element_eqs(i, &self.dofs, self.mult_eq));
+            }
+        }
+        let n_eq = self.eq_class.len();
+        self.assembly = Assembly::new(n_eq, element_eqs);
+        self.pattern_version += 1;
+    }
+
+    /// The same problem with another coupling, keeping the current state
+    /// (e.g. the thermal phase on the deformation of the mechanical phase:
+    /// the contact pressures and active set are then frozen).
+    pub fn set_coupling(&mut self, coupling: Coupling) -> Result<()> {
+        if coupling == Coupling::Thermal
+            && let Some(c) = self.contact.as_mut()
+        {
+            c.prepare(&self.state)?;
+            c.freeze();
+        }
+        if coupling != Coupling::Thermal
+            && let Some(c) = self.contact.as_mut()
+        {
+            c.frozen = None;
+        }
+        self.coupling = coupling;
+        self.initial = self.state.clone();
+        self.renumber()
+    }
+
+    /// Sets the load path: (pressure, flux) multipliers of the nominal loads
+    /// at load factor 0 and at load factor 1.
+    /// Prescribed values ramp from the current state to their targets along
+    /// the path (they stay put once reached).
+    pub fn set_path(&mut self, from: [f64; 2], to: [f64; 2]) {
+        self.path = (from, to);
+        self.initial = self.state.clone();
+    }
+
+    /// The current (pressure, flux) multipliers of the nominal loads.
+    pub fn load(&self) -> [f64; 2] {
+        self.load
+    }
+
+    /// Moves the slave body rigidly along the master normal until its
+    /// closest control point touches (weighted gap zero), and seeds that
+    /// point's multiplier so that the vertical position is determined from
+    /// the first iteration (loading starts at first touch, spec §5).
+    pub fn touch(&mut self, slave_body: usize, vertical: usize) -> Result<()> {
+        let Some(c) = self.contact.as_mut() else { return Ok(()) };
+        c.prepare(&self.state)?;
+        let (imin, gmin) = (0..c.n_slave())
+            .map(|i| (i, c.weighted_gap(i)))
+            .fold((0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
+        let b = &self.bodies[slave_body];
+        let nf = self.dim + 1;
+        let sign = if c.normal_points_up() { -1.0 } else { 1.0 };
+        for n in b.node_offset..b.node_offset + b.patch.n_control_points() {
+            if let crate::solve::Dof::Free(_) = self.dofs.dof(n, vertical) {
+                self.state[n * nf + vertical] += sign * gmin;
+            }
+        }
+        self.initial = self.state.clone();
+        c.prepare(&self.state)?;
+        c.lambda_n[imin] = c.lambda_n[imin].max(1e-9 * c.eps_n);
+        Ok(())
+    }
+    /// The current coupling.
+    pub fn coupling(&self) -> Coupling {
+        self.coupling
+    }
+
+    /// Replaces every body's conductivity by its value at `theta` (K),
+    /// constant: the thermal phase of the two-phase framework (Sect. 3.1).
+    pub fn freeze_conductivity(&mut self, theta: f64) {
+        let t = self.scales.temp(theta);
+        for b in &mut self.bodies {
+            let (k, _) = b.material.conductivity(t);
+            b.material.thermal_conductivity = k;
+            b.material.conductivity_slope = 0.0;
+        }
+    }
+
+    /// The degrees of freedom.
+    pub fn dofs(&self) -> &DofMap {
+        &self.dofs
+    }
+
+    /// The platens.
+    pub fn platens(&self) -> &[Platen] {
+        &self.platens
+    }
+
+    /// Displacement component `field` of node `node`, in m.
+    pub fn displacement(&self, node: usize, field: usize) -> f64 {
+        self.state[node * (self.dim + 1) + field] * self.scales.length
+    }
+
+    /// Temperature of node `node`, in K.
+    pub fn temperature(&self, node: usize) -> f64 {
+        self.state[node * (self.dim + 1) + self.dim] * self.scales.temperature
+    }
+
+    /// Area average of the temperature over a face (K): the measured `θ(1)` of spec §5.
+    pub fn face_mean_temperature(&self, body: usize, dir: usize, side: Side) -> f64 {
+        let b = &self.bodies[body];
+        let nf = self.dim + 1;
+        let (mut a, mut s) = (0.0, 0.0);
+        for fe in b.patch.face_quadrature(dir, side, b.patch.knots()[0].degree() + 2) {
+            for qp in &fe.points {
+                let th: f64 = fe.conn.iter().zip(&qp.r).map(|(&c, r)| r * self.state[(c + b.node_offset) * nf + self.dim]).sum();
+                a += qp.weight;
+                s += qp.weight * th;
+            }
+        }
+        s / a * self.scales.temperature
+    }
+
+    fn gather_nodes(&self, body: &Body, conn: &[usize], u: &mut Vec<[f64; 3]>, th: &mut Vec<f64>) {
+        let nf = self.dim + 1;
+        u.clear();
+        th.clear();
+        for &c in conn {
+            let n = (c + body.node_offset) * nf;
+            let mut v = [0.0; 3];
+            v[..self.dim].copy_from_slice(&self.state[n..n + self.dim]);
+            u.push(v);
+            th.push(self.state[n + self.dim]);
+        }
+    }
+
+    /// External loads at the current multipliers, gathered into equation space.
+    fn external(&self) -> Vec<f64> {
+        let mut f = vec![0.0; self.n_bulk_eq];
+        let v: Vec<f64> =
+            self.f_mech.iter().zip(&self.f_therm).map(|(m, t)| m * self.load[0] + t * self.load[1]).collect();
+        self.dofs.gather(&v, &mut f);
+        f.resize(self.eq_class.len(), 0.0);
+        f
+    }
+
+    /// Residual (and tangent) of bulk and contact, minus the external loads.
+    fn assemble_all(&self, values: Option<&mut [f64]>, residual: &mut [f64]) -> Result<()> {
+        let scales = self.scales;
+        let src_fn = self.sources.clone();
+        let scaled_src = move |x: &[f64; 3]| {
+            let f = src_fn.as_ref().expect("sources present");
+            let l = scales.length;
+            let (b, r) = f(&[x[0] * l, x[1] * l, x[2] * l]);
+            (b * (l / scales.stress), r * (l * l / (scales.conductivity * scales.temperature)))
+        };
+        let src: Option<&(dyn Fn(&[f64; 3]) -> (Vector3<f64>, f64) + Sync)> =
+            if self.sources.is_some() { Some(&scaled_src) } else { None };
+        let n_bulk = self.elements.len();
+        let unknowns = self.contact_unknowns();
+        let local = |e: usize, k: Option<&mut [f64]>, r: &mut [f64]| -> Result<()> {
+            if e >= n_bulk {
+                let c = self.contact.as_ref().expect("contact elements come from an interface");
+                c.element(e - n_bulk, unknowns.expect("contact present"), k, r);
+                return Ok(());
+            }
+            let (bi, ei) = self.elements[e];
+            let body = &self.bodies[bi];
+            let q = &body.quadrature[ei];
+            let (mut u, mut th) = (Vec::new(), Vec::new());
+            self.gather_nodes(body, &q.conn, &mut u, &mut th);
+            let fields = ElementFields { u: &u, theta: &th };
+            element_residual_tangent(&body.material, q, self.dim, self.coupling, &fields, src, k, r);
+            Ok(())
+        };
+        match values {
+            Some(v) => {
+                self.assembly.assemble(v, residual, |e, k, r| local(e, Some(k), r))?;
+                if let Some(eq) = self.soft_pin_eq {
+                    let sym = self.assembly.symbolic();
+                    let (cp, ri) = (sym.col_ptr(), sym.row_idx());
+                    if let Some(pos) = (cp[eq]..cp[eq + 1]).find(|&p| ri[p] == eq) {
+                        v[pos] += 1e-8;
+                    }
+                }
+            }
+            None => self.assembly.assemble_vector(residual, |e, r| local(e, None, r))?,
+        }
+        for (r, f) in residual.iter_mut().zip(self.external()) {
+            *r -= f;
+        }
+        Ok(())
+    }
+
+    /// Contact multipliers as a state vector (λN then λθ).
+    fn multipliers(&self) -> Vec<f64> {
+        match &self.contact {
+            Some(c) => c.lambda_n.iter().chain(&c.lambda_t).copied().collect(),
+            None => Vec::new(),
+        }
+    }
+}
+
+impl NonlinearProblem for Model {
+    fn n_eq(&self) -> usize {
+        self.eq_class.len()
+    }
+
+    fn eq_fields(&self) -> &[usize] {
+        &self.eq_class
+    }
+
+    fn field_names(&self) -> &[&'static str] {
+        &["mechanical", "thermal", "normal contact", "thermal contact"]
+    }
+
+    fn pattern(&self) -> faer::sparse::SymbolicSparseColMatRef<'_, usize> {
+        self.assembly.symbolic()
+    }
+
+    fn pattern_version(&self) -> u64 {
+        self.pattern_version
+    }
+
+    fn factorization(&self) -> (Factorization, Ordering) {
+        let nd = || Ordering::Custom(nested_dissection(self.assembly.symbolic(), &self.eq_coords));
+        let multipliers = self.mult_eq.0.is_some() || self.mult_eq.1.is_some();
+        let constant_k = self.bodies.iter().all(|b| b.material.conductivity_slope == 0.0);
+        match self.coupling {
+            Coupling::Mechanical if !multipliers && self.soft_pin_eq.is_none() => (Factorization::Cholesky, nd()),
+            Coupling::Thermal if !multipliers && constant_k => (Factorization::Cholesky, nd()),
+            _ => (Factorization::Lu, Ordering::Default),
+        }
+    }
+
+    fn prepare(&mut self) -> Result<()> {
+        if let Some(c) = self.contact.as_mut() {
+            c.prepare(&self.state)?;
+            if c.update_band() {
+                self.rebuild_assembly();
+            }
+        }
+        Ok(())
+    }
+
+    fn set_load(&mut self, load_factor: f64) {
+        self.load_factor = load_factor;
+        let (a, b) = self.path;
+        self.load = [a[0] + load_factor * (b[0] - a[0]), a[1] + load_factor * (b[1] - a[1])];
+        self.dofs.impose(&mut self.state, &self.initial, load_factor);
+    }
+
+    fn assemble(&mut self, values: Option<&mut [f64]>, residual: &mut [f64]) -> Result<()> {
+        self.assemble_all(values, residual)
+    }
+
+    fn load_norms(&self) -> Vec<f64> {
+        let mut s = vec![0.0; 4];
+        for (v, &c) in self.external().iter().zip(&self.eq_class) {
+            s[c] += v * v;
+        }
+        s.iter().map(|x| x.sqrt()).collect()
+    }
+
+    fn update(&mut self, dx: &[f64]) {
+        self.dofs.add_increment(&dx[..self.n_bulk_eq], &mut self.state);
+        let (m0, m1) = self.mult_eq;
+        if let Some(c) = self.contact.as_mut() {
+            let ns = c.n_slave();
+            if let Some(e) = m0 {
+                c.lambda_n.iter_mut().zip(&dx[e..e + ns]).for_each(|(l, d)| *l += d);
+            }
+            if let Some(e) = m1 {
+                c.lambda_t.iter_mut().zip(&dx[e..e + ns]).for_each(|(l, d)| *l += d);
+            }
+        }
+    }
+
+    fn save(&self) -> Vec<f64> {
+        let mut v = self.state.clone();
+        v.extend(self.multipliers());
+        v
+    }
+
+    fn restore(&mut self, saved: &[f64]) {
+        let n = self.state.len();
+        self.state.copy_from_slice(&saved[..n]);
+        if let Some(c) = self.contact.as_mut() {
+            let ns = c.n_slave();
+            c.lambda_n.copy_from_slice(&saved[n..n + ns]);
+            c.lambda_t.copy_from_slice(&saved[n + ns..n + 2 * ns]);
+        }
+    }
+}

@@ -1,0 +1,280 @@
+//! Newton's method with a consistent tangent, per-field convergence tests and
+//! load stepping with adaptive cutback.
+
+use serde::Serialize;
+
+use crate::solve::linear::{Factorization, LinearSolver, Ordering};
+use crate::{Error, Result};
+
+/// A discrete nonlinear problem `R(x; λ) = 0` driven by a load factor `λ ∈ [0, 1]`.
+pub trait NonlinearProblem {
+    /// Number of unknowns.
+    fn n_eq(&self) -> usize;
+    /// Field class of every equation (indexes [`NonlinearProblem::field_names`]).
+    fn eq_fields(&self) -> &[usize];
+    /// Names of the field classes, for messages and histories.
+    fn field_names(&self) -> &[&'static str];
+    /// The sparsity pattern of the tangent. When it changes (e.g. a new
+    /// contact coupling), [`NonlinearProblem::pattern_version`] must change too.
+    fn pattern(&self) -> faer::sparse::SymbolicSparseColMatRef<'_, usize>;
+    /// Identifies the current pattern; the solver re-analyses when it changes.
+    fn pattern_version(&self) -> u64 {
+        0
+    }
+    /// Which factorization suits the tangent, and with which ordering.
+    fn factorization(&self) -> (Factorization, Ordering) {
+        (Factorization::Lu, Ordering::Default)
+    }
+    /// Updates state-dependent data (e.g. contact projections) before the
+    /// pattern is queried and the system assembled; may change the pattern.
+    fn prepare(&mut self) -> Result<()> {
+        Ok(())
+    }
+    /// Applies the prescribed values and loads of load factor `λ`.
+    fn set_load(&mut self, load_factor: f64);
+    /// Residual (and tangent values when `values` is given) at the current state.
+    fn assemble(&mut self, values: Option<&mut [f64]>, residual: &mut [f64]) -> Result<()>;
+    /// External load per field class at the current load factor, as a reference
+    /// magnitude for the relative residual test (Euclidean norms).
+    fn load_norms(&self) -> Vec<f64>;
+    /// `x ← x + dx` (with `dx` in equation space).
+    fn update(&mut self, dx: &[f64]);
+    /// Called once per Newton iteration after the update (e.g. active sets).
+    fn after_update(&mut self) {}
+    /// A copy of the state, to return to after a failed load step.
+    fn save(&self) -> Vec<f64>;
+    /// Restores a state from [`NonlinearProblem::save`].
+    fn restore(&mut self, state: &[f64]);
+}
+
+/// Settings of Newton's method (tolerances in the solver's scaled units).
+#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct NewtonSettings {
+    /// Maximum iterations per load step.
+    pub max_iterations: usize,
+    /// Relative residual tolerance, per field class.
+    pub relative_tolerance: f64,
+    /// Absolute residual tolerance, per field class (scaled units).
+    pub absolute_tolerance: f64,
+    /// A residual growing by this factor over the first is a divergence.
+    pub divergence_factor: f64,
+}
+
+impl Default for NewtonSettings {
+    fn default() -> Self {
+        NewtonSettings {
+            max_iterations: 30,
+            relative_tolerance: 1e-10,
+            absolute_tolerance: 1e-12,
+            divergence_factor: 1e8,
+        }
+    }
+}
+
+/// Load stepping with adaptive cutback.
+#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct LoadStepping {
+    /// First load increment (fraction of the total load).
+    pub initial_step: f64,
+    /// Smallest increment before giving up.
+    pub min_step: f64,
+    /// Largest increment.
+    pub max_step: f64,
+    /// Growth factor after an easy step (fewer than `easy_iterations`).
+    pub growth: f64,
+    /// Iterations below which a step counts as easy.
+    pub easy_iterations: usize,
+    /// Cut factor after a failed step.
+    pub cutback: f64,
+}
+
+impl Default for LoadStepping {
+    fn default() -> Self {
+        LoadStepping {
+            initial_step: 1.0,
+            min_step: 1e-5,
+            max_step: 1.0,
+            growth: 2.0,
+            easy_iterations: 6,
+            cutback: 0.25,
+        }
+    }
+}
+
+/// One Newton iteration: residual norm of every field class before the update.
+#[derive(Clone, Debug, Serialize)]
+pub struct IterationRecord {
+    /// Residual norms per field class.
+    pub residuals: Vec<f64>,
+}
+
+/// One converged load step.
+#[derive(Clone, Debug, Serialize)]
+pub struct StepRecord {
+    /// Load factor reached.
+    pub load_factor: f64,
+    /// Iterations (the last entry is the converged residual).
+    pub iterations: Vec<IterationRecord>,
+}
+
+/// The history of a solve.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct SolveHistory {
+    /// Converged steps.
+    pub steps: Vec<StepRecord>,
+    /// Failed attempts (cut back).
+    pub cutbacks: usize,
+}
+
+impl SolveHistory {
+    /// Total Newton iterations over all converged steps.
+    pub fn total_iterations(&self) -> usize {
+        self.steps.iter().map(|s| s.iterations.len().saturating_sub(1)).sum()
+    }
+}
+
+/// Newton's method with a kept linear solver (symbolic analysis reused while
+/// the pattern does not change).
+pub struct Newton {
+    /// Iteration settings.
+    pub settings: NewtonSettings,
+    /// Load stepping settings.
+    pub stepping: LoadStepping,
+    solver: Option<(u64, LinearSolver)>,
+}
+
+impl Newton {
+    /// A solver with the given settings.
+    pub fn new(settings: NewtonSettings, stepping: LoadStepping) -> Self {
+        Newton { settings, stepping, solver: None }
+    }
+
+    fn field_norms<P: NonlinearProblem + ?Sized>(p: &P, r: &[f64]) -> Vec<f64> {
+        let mut s = vec![0.0; p.field_names().len()];
+        for (v, &f) in r.iter().zip(p.eq_fields()) {
+            s[f] += v * v;
+        }
+        s.iter().map(|x| x.sqrt()).collect()
+    }
+
+    /// Newton iterations at the current load factor. Returns the iteration records.
+    pub fn iterate<P: NonlinearProblem + ?Sized>(
+        &mut self,
+        p: &mut P,
+        step: usize,
+        load_factor: f64,
+    ) -> Result<Vec<IterationRecord>> {
+        let n = p.n_eq();
+        let mut r = vec![0.0; n];
+        let mut history = Vec::new();
+        let mut first: Option<Vec<f64>> = None;
+        let names: Vec<&str> = p.field_names().to_vec();
+        let fail = |iterations: usize, reason: String| Error::NewtonDiverged {
+            step,
+            load_factor,
+            iterations,
+            reason,
+        };
+        for it in 0..=self.settings.max_iterations {
+            p.prepare()?;
+            let version = p.pattern_version();
+            if self.solver.as_ref().is_none_or(|(v, _)| *v != version) {
+                let (kind, ordering) = p.factorization();
+                self.solver = Some((version, LinearSolver::new(p.pattern(), kind, ordering)?));
+            }
+            let nnz = p.pattern().row_idx().len();
+            let mut values = vec![0.0; nnz];
+            p.assemble(Some(&mut values), &mut r)?;
+            let norms = Self::field_norms(p, &r);
+            if norms.iter().any(|v| !v.is_finite()) {
+                return Err(fail(it, "non-finite residual".into()));
+            }
+            history.push(IterationRecord { residuals: norms.clone() });
+            let reference = first.get_or_insert_with(|| {
+                let loads = p.load_norms();
+                norms.iter().zip(&loads).map(|(a, b)| a.max(*b)).collect()
+            });
+            let converged = norms.iter().zip(reference.iter()).all(|(v, r0)| {
+                *v <= self.settings.absolute_tolerance.max(self.settings.relative_tolerance * r0)
+            });
+            if converged {
+                return Ok(history);
+            }
+            if it == self.settings.max_iterations {
+                break;
+            }
+            if let Some((f, (v, r0))) = names
+                .iter()
+                .zip(norms.iter().zip(reference.iter()))
+                .find(|(_, (v, r0))| **v > self.settings.divergence_factor * r0.max(self.settings.absolute_tolerance))
+            {
+                return Err(fail(it, format!("{f} residual grew to {v:.3e} from {r0:.3e}")));
+            }
+            let solver = &mut self.solver.as_mut().expect("solver set above").1;
+            solver.factorize(&values).map_err(|e| fail(it, e.to_string()))?;
+            r.iter_mut().for_each(|v| *v = -*v);
+            solver.solve_in_place(&mut r).map_err(|e| fail(it, e.to_string()))?;
+            if r.iter().any(|v| !v.is_finite()) {
+                return Err(fail(it, "non-finite increment".into()));
+            }
+            p.update(&r);
+            p.after_update();
+        }
+        let last = history.last().map(|h| h.residuals.clone()).unwrap_or_default();
+        let detail: Vec<String> = names.iter().zip(&last).map(|(n, v)| format!("{n} {v:.3e}")).collect();
+        Err(fail(self.settings.max_iterations, format!("no convergence; residuals {}", detail.join(", "))))
+    }
+
+    /// Drives the load factor from 0 to 1 with adaptive steps; on a failed
+    /// step restores the last converged state and cuts the step back.
+    pub fn solve<P: NonlinearProblem + ?Sized>(&mut self, p: &mut P) -> Result<SolveHistory> {
+        self.solve_path(p, 0.0, 1.0)
+    }
+
+    /// Like [`Newton::solve`], from load factor `from` to `to`.
+    pub fn solve_path<P: NonlinearProblem + ?Sized>(
+        &mut self,
+        p: &mut P,
+        from: f64,
+        to: f64,
+    ) -> Result<SolveHistory> {
+        let mut hist = SolveHistory::default();
+        let mut lf = from;
+        let span = to - from;
+        let mut dl = (self.stepping.initial_step * span).min(span);
+        let mut saved = p.save();
+        let mut step = 0;
+        while lf < to - 1e-14 * span.abs().max(1.0) {
+            let target = if lf + dl > to - 1e-12 * span { to } else { lf + dl };
+            p.set_load(target);
+            match self.iterate(p, step, target) {
+                Ok(iters) => {
+                    let easy = iters.len() <= self.stepping.easy_iterations;
+                    hist.steps.push(StepRecord { load_factor: target, iterations: iters });
+                    lf = target;
+                    saved = p.save();
+                    step += 1;
+                    if easy {
+                        dl = (dl * self.stepping.growth).min(self.stepping.max_step * span);
+                    }
+                }
+                Err(e) => {
+                    hist.cutbacks += 1;
+                    p.restore(&saved);
+                    p.set_load(lf);
+                    dl *= self.stepping.cutback;
+                    if dl < self.stepping.min_step * span {
+                        return Err(Error::LoadStepStalled {
+                            load_factor: lf,
+                            step_size: dl / span,
+                            last: e.to_string(),
+                        });
+                    }
+                }
+            }
+        }
+        Ok(hist)
+    }
+}
