@@ -1,2 +1,3 @@
 //! Closed-form reference solutions, tested on their own and used by the verification.
 pub mod compression;
+pub mod manufactured;
