@@ -2,5 +2,6 @@
 //! platen, the case file, and the pressure path solve behind `tcgen solve`.
 
 pub mod case;
+pub mod micro;
 
 pub use case::Case;

@@ -168,6 +168,15 @@ impl DofMap {
         }
     }
 
+    /// Changes the prescribed value of a fixed component (no effect on free ones).
+    #[track_caller]
+    pub fn set_fixed(&mut self, node: usize, field: usize, value: f64) {
+        let s = node * self.n_fields + field;
+        if let Dof::Fixed(_) = self.dofs[s] {
+            self.dofs[s] = Dof::Fixed(value);
+        }
+    }
+
     /// Sets the prescribed components of `state` to `initial + factor (value − initial)`.
     pub fn impose(&self, state: &mut [f64], initial: &[f64], factor: f64) {
         for (s, d) in self.dofs.iter().enumerate() {

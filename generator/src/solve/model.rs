@@ -305,6 +305,7 @@ impl ModelBuilder {
         let mut model = Model {
             dim: self.dim,
             scales: self.scales,
+            base_materials: self.bodies.iter().map(|b| b.material.clone()).collect(),
             bodies: self.bodies,
             fixes: self.fixes,
             ties: self.ties,
@@ -343,6 +344,7 @@ pub struct Model {
     pub scales: Scales,
     /// The bodies.
     pub bodies: Vec<Body>,
+    base_materials: Vec<Material>,
     fixes: Vec<(usize, usize, f64)>,
     ties: Vec<((usize, usize), (usize, usize))>,
     platens: Vec<Platen>,
@@ -559,6 +561,66 @@ impl Model {
             let (k, _) = b.material.conductivity(t);
             b.material.thermal_conductivity = k;
             b.material.conductivity_slope = 0.0;
+        }
+    }
+
+    /// Reference x coordinate of a node (scaled).
+    pub fn node_x(&self, node: usize) -> f64 {
+        self.node_position(node)[0]
+    }
+
+    /// Changes a prescribed value on a face (SI; temperature for `field == dim`).
+    /// The new value is reached along the next load path.
+    pub fn prescribe_face(&mut self, body: usize, dir: usize, side: Side, field: usize, value: f64) {
+        let v = if field < self.dim { self.scales.len(value) } else { self.scales.temp(value) };
+        let nodes = self.bodies[body].face_nodes(dir, side);
+        for f in self.fixes.iter_mut() {
+            if f.1 == field && nodes.contains(&f.0) {
+                f.2 = v;
+            }
+        }
+        for n in nodes {
+            self.dofs.set_fixed(n, field, v);
+        }
+    }
+
+    /// In the mechanical phase: sets the frozen (uniform) temperature of a
+    /// body, reached along the next load path (the first-order corrector of
+    /// the self-consistent scheme, Sect. 3.3).
+    pub fn set_frozen_temperature(&mut self, body: usize, theta: f64) {
+        let t = self.scales.temp(theta);
+        let b = &self.bodies[body];
+        for n in b.node_offset..b.node_offset + b.patch.n_control_points() {
+            self.dofs.set_fixed(n, self.dim, t);
+        }
+    }
+
+    /// Sets a body's temperature field to a uniform value (SI), state and
+    /// prescribed values alike (before a solve).
+    pub fn set_uniform_temperature(&mut self, body: usize, theta: f64) {
+        let t = self.scales.temp(theta);
+        let nf = self.dim + 1;
+        let b = &self.bodies[body];
+        for n in b.node_offset..b.node_offset + b.patch.n_control_points() {
+            self.state[n * nf + self.dim] = t;
+            self.dofs.set_fixed(n, self.dim, t);
+        }
+        self.initial = self.state.clone();
+    }
+
+    /// Freezes one body's conductivity at its value at `theta` (K).
+    pub fn freeze_body_conductivity(&mut self, body: usize, theta: f64) {
+        let t = self.scales.temp(theta);
+        let m = &mut self.bodies[body].material;
+        let (k, _) = m.conductivity(t);
+        m.thermal_conductivity = k;
+        m.conductivity_slope = 0.0;
+    }
+
+    /// Restores the bodies' materials as built (undoes the freezes).
+    pub fn restore_materials(&mut self) {
+        for (b, m) in self.bodies.iter_mut().zip(&self.base_materials) {
+            b.material = m.clone();
         }
     }
 

@@ -1,0 +1,202 @@
+//! The micro-sample model (spec §3, §5, paper Fig. 2 and 5): body 2 (lower)
+//! occupies `z ∈ [−H0, f2(x)]`, body 1 (upper) `z ∈ [f1(x) + g0, H0 + g0]`,
+//! with `g0` such that they first touch at zero load; bottom of body 2 fixed,
+//! rigid platen with `p̄N` on top of body 1, LN or PR lateral faces, mortar
+//! contact with body 2 as master (or body 1, switchable), and the thermal
+//! conditions of the θ̄c-projection (2.12): the master's external face at a
+//! prescribed temperature, the slave's external face under `h̄`.
+
+use crate::bulk::Coupling;
+use crate::geometry::{FitMethod, RoughFace, Side, SurfaceFit, fit_height_function, rough_block};
+use crate::material::Material;
+use crate::sample::case::{Case, LateralCondition, MasterBody};
+use crate::solve::{Model, ModelBuilder, Scales};
+use crate::surface::Surface;
+use crate::{Error, Result};
+
+/// Index of the lower body (body 2) in the model.
+pub const LOWER: usize = 0;
+/// Index of the upper body (body 1) in the model.
+pub const UPPER: usize = 1;
+
+/// Geometry of a micro-sample: the fitted surfaces and the first-touch offset.
+#[derive(Clone, Debug)]
+pub struct SampleGeometry {
+    /// Fit of the upper body's surface `f1`.
+    pub fit_upper: SurfaceFit,
+    /// Fit of the lower body's surface `f2`.
+    pub fit_lower: SurfaceFit,
+    /// Offset `g0` (m) that makes the bodies touch at zero load.
+    pub g0: f64,
+}
+
+/// Evaluates a fitted graph curve `z(x)` (B-spline, x linear in the parameter).
+pub fn fitted_height(fit: &SurfaceFit, width: f64, x: f64) -> f64 {
+    let kv = &fit.knots;
+    let u = kv.first() + (kv.last() - kv.first()) * (x / width).clamp(0.0, 1.0);
+    let span = kv.find_span(u);
+    let n = crate::basis::bspline::basis_ders(kv, span, u, 0);
+    let p = kv.degree();
+    (0..=p).map(|j| n[0][j] * fit.heights[span - p + j]).sum()
+}
+
+/// Fits both surfaces at the discretization's resolution and finds `g0`.
+pub fn sample_geometry(case: &Case, upper: &dyn Surface, lower: &dyn Surface) -> SampleGeometry {
+    let w = case.sample.width;
+    let d = &case.discretization;
+    let fu = |x: f64| upper.height(x);
+    let fl = |x: f64| lower.height(x);
+    let fit_upper = fit_height_function(&fu, w, d.degree, d.elements_upper[0], FitMethod::Interpolation);
+    let fit_lower = fit_height_function(&fl, w, d.degree, d.elements_lower[0], FitMethod::Interpolation);
+    // First touch: g0 = max (f2 − f1) over a dense sampling of the fitted curves,
+    // refined by golden-section search around the best sample.
+    let n = 64 * (d.elements_upper[0].max(d.elements_lower[0]) + 1);
+    let gap = |x: f64| fitted_height(&fit_lower, w, x) - fitted_height(&fit_upper, w, x);
+    let (mut xb, mut gb) = (0.0, f64::NEG_INFINITY);
+    for i in 0..=n {
+        let x = w * i as f64 / n as f64;
+        let g = gap(x);
+        if g > gb {
+            (xb, gb) = (x, g);
+        }
+    }
+    let (mut a, mut b) = ((xb - w / n as f64).max(0.0), (xb + w / n as f64).min(w));
+    let r = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..80 {
+        let (c, e) = (b - r * (b - a), a + r * (b - a));
+        if gap(c) > gap(e) { b = e } else { a = c }
+    }
+    let g0 = gb.max(gap(0.5 * (a + b)));
+    SampleGeometry { fit_upper, fit_lower, g0 }
+}
+
+/// Thermal boundary conditions of the micro-sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ThermalBc {
+    /// Temperature prescribed on the master's external face (K).
+    pub master_face_temperature: f64,
+    /// Flux magnitude through the slave's external face (W/m²), upper to lower.
+    pub flux: f64,
+}
+
+/// Builds the micro-sample model for a case with materials (upper, lower).
+pub fn build_model(
+    case: &Case,
+    geo: &SampleGeometry,
+    materials: (&Material, &Material),
+    bc: ThermalBc,
+    coupling: Coupling,
+) -> Result<Model> {
+    let w = case.sample.width;
+    let h = case.sample.height;
+    let d = &case.discretization;
+    let lower_patch = rough_block(&geo.fit_lower, 0.0, -h, RoughFace::Top, d.degree, d.elements_lower[1]);
+    let upper_patch = rough_block(&geo.fit_upper, geo.g0, h + geo.g0, RoughFace::Bottom, d.degree, d.elements_upper[1]);
+    let mut mb = ModelBuilder::new(2, Scales::new(w, materials.1));
+    if let Some(n) = d.bulk_points {
+        mb = mb.bulk_points(n);
+    }
+    let lo = mb.add_body("lower", &lower_patch, materials.1)?;
+    let up = mb.add_body("upper", &upper_patch, materials.0)?;
+    debug_assert_eq!((lo, up), (LOWER, UPPER));
+    // Mechanics (Fig. 5): bottom fixed, platen on top.
+    mb.fix_face(lo, 1, Side::Low, 0, 0.0);
+    mb.fix_face(lo, 1, Side::Low, 1, 0.0);
+    mb.platen(up, 1, Side::High, 1, 1.0);
+    match case.sample.lateral {
+        LateralCondition::Linear => {
+            mb.linear_lateral(lo, 0, 0);
+            mb.linear_lateral(up, 0, 0);
+        }
+        LateralCondition::Periodic => {
+            mb.periodic(lo, 0);
+            mb.periodic(up, 0);
+            // The upper body may slide freely: regularize its rigid mode in the tangent only.
+            let top = mb.bodies()[up].face_nodes(1, Side::High)[0];
+            mb.soft_pin(top, 0);
+        }
+    }
+    // Thermal: θ̄c-projection (2.12); the nominal flux load is |h̄| (multiplier 1).
+    let (master, slave) = match case.homogenization.master {
+        MasterBody::Lower => ((lo, Side::Low), (up, Side::High)),
+        MasterBody::Upper => ((up, Side::High), (lo, Side::Low)),
+    };
+    mb.fix_face(master.0, 1, master.1, 2, bc.master_face_temperature);
+    let into_slave = if slave.0 == UPPER { bc.flux } else { -bc.flux };
+    mb.flux(slave.0, 1, slave.1, into_slave);
+    mb.initial_temperature(case.load.contact_temperature);
+    let period = (case.sample.lateral == LateralCondition::Periodic).then_some(w);
+    let (cs, cm) = match case.homogenization.master {
+        MasterBody::Lower => ((up, 1, Side::Low), (lo, 1, Side::High)),
+        MasterBody::Upper => ((lo, 1, Side::High), (up, 1, Side::Low)),
+    };
+    mb.contact(cs, cm, &case.contact, period)?;
+    let mut model = mb.build(coupling)?;
+    model.touch(cs.0, 1)?;
+    Ok(model)
+}
+
+/// The slave body's index for a case.
+pub fn slave_body(case: &Case) -> usize {
+    match case.homogenization.master {
+        MasterBody::Lower => UPPER,
+        MasterBody::Upper => LOWER,
+    }
+}
+
+/// Interface measurements of a solved micro-sample.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct InterfaceMeasures {
+    /// Real contact area fraction (projected on the mean plane).
+    pub contact_fraction: f64,
+    /// Mean gap over the slave surface (m), non-contact parts included, penetrations counted as 0.
+    pub mean_gap: f64,
+    /// `[pN^α] = |A|⁻¹ ∫ pN^α dA` (Pa^α) with the lumped referential pressures.
+    pub mean_pressure_power: f64,
+    /// Largest lumped temperature jump `|γθ^I|` over the active set (K).
+    pub max_active_jump: f64,
+    /// Approach of the platen (m), positive in compression.
+    pub approach: f64,
+}
+
+/// Measures the interface of a solved model; `alpha` the exponent of `[pN^α]`.
+pub fn measure(model: &Model, alpha: f64) -> Result<InterfaceMeasures> {
+    let c = model.contact.as_ref().ok_or_else(|| Error::Geometry("the model has no contact interface".into()))?;
+    let s = model.scales;
+    let ns = c.n_slave();
+    // Contact fraction: the AL indicator pN^I = λ − εN g^I is the pressure inside
+    // the contact zone and the (scaled) gap outside; its zero crossing between
+    // neighbouring slave control points (Greville positions) locates the edge.
+    let xs: Vec<f64> = c.slave_nodes.iter().map(|&n| model.node_x(n)).collect();
+    let ind: Vec<f64> = (0..ns).map(|i| c.pressure(i)).collect();
+    let (mut contact, mut total) = (0.0, 0.0);
+    for i in 0..ns - 1 {
+        let dx = (xs[i + 1] - xs[i]).abs();
+        total += dx;
+        let (a, b) = (ind[i], ind[i + 1]);
+        contact += match (a > 0.0, b > 0.0) {
+            (true, true) => dx,
+            (false, false) => 0.0,
+            (true, false) => dx * a / (a - b),
+            (false, true) => dx * b / (b - a),
+        };
+    }
+    let mut gsum = 0.0;
+    let mut wsum = 0.0;
+    for (q, st) in c.state.iter().enumerate() {
+        let w = c.points[q].weight;
+        gsum += w * st.gap.value.max(0.0);
+        wsum += w;
+    }
+    let area: f64 = c.lumped_area.iter().sum();
+    let ppow: f64 = (0..ns).map(|i| c.lumped_area[i] * c.pressure(i).max(0.0).powf(alpha)).sum::<f64>() / area;
+    let max_jump = (0..ns).filter(|&i| c.is_active(i)).map(|i| c.weighted_jump(i).abs()).fold(0.0, f64::max);
+    let pl = &model.platens()[0];
+    Ok(InterfaceMeasures {
+        contact_fraction: if total > 0.0 { contact / total } else { 0.0 },
+        mean_gap: gsum / wsum * s.length,
+        mean_pressure_power: ppow * s.stress.powf(alpha),
+        max_active_jump: max_jump * s.temperature,
+        approach: -model.displacement(pl.nodes[0], pl.field),
+    })
+}
