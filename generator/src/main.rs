@@ -25,6 +25,14 @@ enum Command {
         #[arg(long)]
         list: bool,
     },
+    /// Solve one micro-sample along its pressure path (case file: TOML, SI units).
+    Solve {
+        /// The case file (see schemas/case.md and the examples in tables/).
+        case: std::path::PathBuf,
+        /// Print one JSON object per pressure instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
     /// Print performance figures of assembly and the sparse solvers.
     Bench {
         /// Approximate numbers of unknowns to benchmark.
@@ -77,10 +85,67 @@ fn verify(json: bool, filter: Option<String>, list: bool) -> ExitCode {
     if failed == 0 { ExitCode::SUCCESS } else { ExitCode::FAILURE }
 }
 
+fn solve(path: &std::path::Path, json: bool) -> ExitCode {
+    let case = match tcgen::sample::Case::read(path) {
+        Ok(c) => c,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    if !json {
+        println!(
+            "{:>12} {:>9} {:>12} {:>12} {:>12} {:>12} {:>6} {:>6}  status",
+            "pressure/Pa", "contact", "mean_gap/m", "approach/m", "jump/K", "k/(W/m2K)", "newton", "sc"
+        );
+    }
+    let t = std::time::Instant::now();
+    let result = tcgen::homogenize::solve_case(&case, |r| {
+        if json {
+            println!("{}", serde_json::to_string(r).expect("serializable"));
+        } else {
+            let status = match &r.status {
+                tcgen::homogenize::Status::Converged => "converged".to_string(),
+                tcgen::homogenize::Status::Failed(m) => format!("FAILED: {m}"),
+            };
+            println!(
+                "{:>12.4e} {:>9.4} {:>12.4e} {:>12.4e} {:>12.6e} {:>12.4e} {:>6} {:>6}  {status}",
+                r.pressure,
+                r.interface.contact_fraction,
+                r.interface.mean_gap,
+                r.interface.approach,
+                r.jump,
+                r.conductance,
+                r.newton_iterations,
+                r.self_consistency_iterations
+            );
+        }
+    });
+    match result {
+        Ok(points) => {
+            if !json {
+                eprintln!("{} points in {:.2} s", points.len(), t.elapsed().as_secs_f64());
+            }
+            if points.iter().all(|p| p.converged) { ExitCode::SUCCESS } else { ExitCode::FAILURE }
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
         Command::Verify { json, filter, list } => verify(json, filter, list),
-        Command::Bench { sizes } => tcgen::bench::main_bench(&sizes),
+        Command::Solve { case, json } => solve(&case, json),
+        Command::Bench { sizes } => match tcgen::bench::main_bench(&sizes) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::FAILURE
+            }
+        },
     }
 }

@@ -52,7 +52,7 @@ struct MasterEval<D> {
     theta: D,
 }
 
-fn taylor<D: DualNum<f64>>(ders: &[Vec<f64>], k: usize, j: usize, powers: &[D]) -> D {
+fn taylor<D: DualNum<Primitive = f64>>(ders: &[Vec<f64>], k: usize, j: usize, powers: &[D]) -> D {
     // d^k N_j (η0 + δ) = Σ_m N_j^(k+m)(η0) δ^m / m!
     let mut s = D::from(0.0);
     let mut fact = 1.0;
@@ -65,7 +65,7 @@ fn taylor<D: DualNum<f64>>(ders: &[Vec<f64>], k: usize, j: usize, powers: &[D]) 
     s
 }
 
-fn master_eval<D: DualNum<f64>>(g: &PointGeometry, z: &[D], delta: &D) -> MasterEval<D> {
+fn master_eval<D: DualNum<Primitive = f64>>(g: &PointGeometry, z: &[D], delta: &D) -> MasterEval<D> {
     let ns = g.slave_x.len();
     let p1 = g.master_ders.len();
     let mut powers = Vec::with_capacity(p1);
@@ -109,7 +109,7 @@ fn master_eval<D: DualNum<f64>>(g: &PointGeometry, z: &[D], delta: &D) -> Master
     MasterEval { x, dx, ddx, theta: th * &winv }
 }
 
-fn slave_point<D: DualNum<f64>>(g: &PointGeometry, z: &[D]) -> ([D; 2], D) {
+fn slave_point<D: DualNum<Primitive = f64>>(g: &PointGeometry, z: &[D]) -> ([D; 2], D) {
     let mut x = [D::from(0.0), D::from(0.0)];
     let mut th = D::from(0.0);
     for (a, &n) in g.slave_basis.iter().enumerate() {
@@ -123,7 +123,7 @@ fn slave_point<D: DualNum<f64>>(g: &PointGeometry, z: &[D]) -> ([D; 2], D) {
 
 /// Projection parameter increment `δ = η − η0` after two Newton steps on
 /// `φ(η) = (x_s − x_m(η))·x_m'(η) = 0` from `δ = 0`.
-fn projection_delta<D: DualNum<f64>>(g: &PointGeometry, z: &[D], xs: &[D; 2]) -> D {
+fn projection_delta<D: DualNum<Primitive = f64>>(g: &PointGeometry, z: &[D], xs: &[D; 2]) -> D {
     let mut delta = D::from(0.0);
     if g.clamped {
         return delta;
@@ -141,7 +141,7 @@ fn projection_delta<D: DualNum<f64>>(g: &PointGeometry, z: &[D], xs: &[D; 2]) ->
 }
 
 /// Normal gap `gN = (x_s − x_m)·n` (positive when apart).
-pub fn normal_gap<D: DualNum<f64>>(g: &PointGeometry, z: &[D]) -> D {
+pub fn normal_gap<D: DualNum<Primitive = f64>>(g: &PointGeometry, z: &[D]) -> D {
     let (xs, _) = slave_point(g, z);
     let delta = projection_delta(g, z, &xs);
     let m = master_eval(g, z, &delta);
@@ -153,7 +153,7 @@ pub fn normal_gap<D: DualNum<f64>>(g: &PointGeometry, z: &[D]) -> D {
 }
 
 /// Temperature jump `ϑc = θ_s − θ_m(η)` (4.1).
-pub fn temperature_jump<D: DualNum<f64>>(g: &PointGeometry, z: &[D]) -> D {
+pub fn temperature_jump<D: DualNum<Primitive = f64>>(g: &PointGeometry, z: &[D]) -> D {
     let (xs, ths) = slave_point(g, z);
     let delta = projection_delta(g, z, &xs);
     let m = master_eval(g, z, &delta);

@@ -142,12 +142,10 @@ fn frozen_bar_case() -> Result<Vec<Check>> {
     let base = BarSetup::default();
     let lambda = platen_stretch(&base.material, base.pressure, base.theta_bottom)?;
     let reference = bar_top_temperature(&base.material, lambda, base.theta_bottom, base.flux, base.height)?;
-    let mut hs = Vec::new();
     let mut es = Vec::new();
     for ny in [2, 4, 8, 16] {
         let s = BarSetup { mesh: (2, 1, ny), ..BarSetup::default() };
         let t = frozen_bar_top_temperature(&s)?;
-        hs.push(1.0 / ny as f64);
         es.push((t - reference).abs());
         if ny == 16 {
             let rise = reference - base.theta_bottom;
@@ -161,11 +159,19 @@ fn frozen_bar_case() -> Result<Vec<Check>> {
             ));
         }
     }
-    let rate = crate::verify::fitted_rate(&hs[1..], &es[1..]);
-    // Nodal (superconvergent) top temperature: at least the L2 rate p + 1.
-    let mut c = Check::with_error("abp_conduction_frozen", "rate of top temperature error (>= 3)", rate, 3.0, (3.0 - rate).max(0.0), 0.15);
-    c.rate = Some(rate);
-    checks.push(c);
+    // Galerkin solutions of 1D conduction are nodally exact (up to the
+    // nonlinearity, which is mild here): the error stays at round-off from
+    // the coarsest mesh on, so no rate can be fitted; check every level.
+    let worst = es.iter().cloned().fold(0.0, f64::max);
+    let rise = reference - base.theta_bottom;
+    checks.push(Check::with_error(
+        "abp_conduction_frozen",
+        "worst top temperature error over 2..16 el. (rel)",
+        worst / rise,
+        0.0,
+        worst / rise,
+        1e-8,
+    ));
     Ok(checks)
 }
 
