@@ -1,1 +1,509 @@
-//! Performance figures printed by `tcgen bench`.
+//! Performance figures printed by `tcgen bench`: sparse assembly and direct solvers on 2D,
+//! p = 2 tensor-product control-point grids.
+//!
+//! A grid has `nx × ny` control points (`ny = nx / 2`) on `[0, 2] × [0, 1]`, open p = 2
+//! B-spline elements of 3 × 3 control points, `fields` unknowns per control point (equation
+//! `cp · fields + f`). Per system and size the benchmark times: pattern construction
+//! ([`Assembly::new`]), one assembly with an element kernel, the fill-reducing ordering (nested
+//! dissection only), the symbolic analysis ([`LinearSolver::new`]), the first numeric
+//! factorization, a refactorization with new values (a second assembly with per-element
+//! scaled blocks) and one solve (with its iterative refinement). Assembly, refactorization and
+//! solve are the best of two runs, since the machine may be shared.
+
+use crate::bulk::global::Assembly;
+use crate::solve::linear::{Factorization, LinearSolver, Ordering};
+use crate::solve::ordering::nested_dissection;
+use crate::{Error, Result};
+use std::time::Instant;
+
+/// One bulk element of the benchmark grid, handed to the element kernel.
+#[derive(Debug, Clone)]
+pub struct BenchElement {
+    /// Element index in the assembly.
+    pub index: usize,
+    /// Element position in the grid (knot span indices).
+    pub span: [usize; 2],
+    /// Unknowns per control point; local dof of control point a, field f: `a · fields + f`.
+    pub fields: usize,
+    /// The 3 × 3 control points, local index `a = lx + 3 ly`.
+    pub control_points: [[f64; 2]; 9],
+}
+
+/// Element kernel: fills the zeroed column-major block `k_e` (9·fields square) and vector `r_e`.
+pub type ElementKernel<'a> =
+    dyn Fn(&BenchElement, &mut [f64], &mut [f64]) -> Result<()> + Sync + 'a;
+
+/// The benchmarked linear systems.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BenchSystem {
+    /// 1 field, SPD (conduction-like: ∇N·∇N + N N).
+    Scalar,
+    /// 2 fields, SPD (plane elasticity + mass).
+    Vector,
+    /// 2 fields + one Lagrange multiplier per top-edge control point tying u_y through a
+    /// mortar-like 1D mass matrix: symmetric saddle point [K Bᵀ; B 0].
+    SaddlePoint,
+    /// 3 fields (u_x, u_y, θ) with nonsymmetric coupling and advection.
+    Coupled,
+}
+
+impl BenchSystem {
+    /// Unknowns per control point (multipliers excluded).
+    pub fn fields(self) -> usize {
+        match self {
+            BenchSystem::Scalar => 1,
+            BenchSystem::Vector | BenchSystem::SaddlePoint => 2,
+            BenchSystem::Coupled => 3,
+        }
+    }
+
+    fn label(self) -> &'static str {
+        match self {
+            BenchSystem::Scalar => "1-field SPD",
+            BenchSystem::Vector => "2-field SPD",
+            BenchSystem::SaddlePoint => "2-field+mult",
+            BenchSystem::Coupled => "3-field nonsym",
+        }
+    }
+}
+
+/// Timings (seconds) and sizes of one benchmark case.
+#[derive(Debug, Clone)]
+pub struct BenchRow {
+    /// Which system.
+    pub system: BenchSystem,
+    /// Control points per direction.
+    pub grid: [usize; 2],
+    /// Unknowns.
+    pub n_eq: usize,
+    /// Structural nonzeros of the matrix.
+    pub nnz: usize,
+    /// "Cholesky", "LDLT" or "LU".
+    pub solver: &'static str,
+    /// "AMD", "ND" (nested dissection) or "COLAMD".
+    pub ordering: &'static str,
+    /// Pattern, scatter map and coloring ([`Assembly::new`]).
+    pub pattern_s: f64,
+    /// One assembly of matrix and residual (best of two).
+    pub assembly_s: f64,
+    /// Nested dissection (0 for the solver's own ordering, which is inside `symbolic_s`).
+    pub ordering_s: f64,
+    /// Symbolic analysis.
+    pub symbolic_s: f64,
+    /// First numeric factorization (allocates the workspace).
+    pub factorize_s: f64,
+    /// Numeric refactorization with new values (best of two).
+    pub refactorize_s: f64,
+    /// One solve including iterative refinement (best of two).
+    pub solve_s: f64,
+    /// Stored entries of L (Cholesky/LDLᵀ), `None` for LU.
+    pub factor_nnz: Option<usize>,
+    /// ‖Ax − b‖∞ / ‖b‖∞ after the solve.
+    pub relative_residual: f64,
+}
+
+/// Runs every benchmark case for each target number of unknowns in `sizes` with the built-in
+/// [`synthetic_kernel`].
+pub fn run_linear_solver_bench(sizes: &[usize]) -> Vec<BenchRow> {
+    run_linear_solver_bench_with(sizes, &synthetic_kernel)
+        .expect("the synthetic benchmark systems are nonsingular and their kernel cannot fail")
+}
+
+/// As [`run_linear_solver_bench`] with a caller-supplied bulk element kernel (the Lagrange
+/// multiplier coupling of [`BenchSystem::SaddlePoint`] stays built in).
+pub fn run_linear_solver_bench_with(
+    sizes: &[usize],
+    kernel: &ElementKernel<'_>,
+) -> Result<Vec<BenchRow>> {
+    let cases: [(BenchSystem, &str, &str); 7] = [
+        (BenchSystem::Scalar, "Cholesky", "AMD"),
+        (BenchSystem::Scalar, "Cholesky", "ND"),
+        (BenchSystem::Vector, "Cholesky", "AMD"),
+        (BenchSystem::Vector, "Cholesky", "ND"),
+        (BenchSystem::SaddlePoint, "LDLT", "AMD"),
+        (BenchSystem::SaddlePoint, "LDLT", "ND"),
+        (BenchSystem::Coupled, "LU", "COLAMD"),
+    ];
+    let mut rows = Vec::new();
+    for &size in sizes {
+        for &(system, solver, ordering) in &cases {
+            rows.push(run_case(system, size, solver, ordering, kernel)?);
+        }
+    }
+    Ok(rows)
+}
+
+/// Runs the benchmark for `sizes` and prints its table to stdout (`tcgen bench`).
+pub fn main_bench(sizes: &[usize]) -> Result<()> {
+    println!(
+        "tcgen bench: sparse assembly and direct solvers, 2D p = 2 grids, {} rayon threads",
+        rayon::current_num_threads()
+    );
+    let rows = run_linear_solver_bench_with(sizes, &synthetic_kernel)?;
+    print!("{}", format_bench_table(&rows));
+    Ok(())
+}
+
+/// The benchmark table, one line per case, times in seconds.
+pub fn format_bench_table(rows: &[BenchRow]) -> String {
+    let mut out = format!(
+        "{:<15} {:>9} {:>8} {:>10} {:<8} {:<6} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>11} {:>8}\n",
+        "system",
+        "grid",
+        "n_eq",
+        "nnz(A)",
+        "solver",
+        "order",
+        "pattern",
+        "assem",
+        "ND",
+        "symb",
+        "fact",
+        "refact",
+        "solve",
+        "nnz(L)",
+        "resid"
+    );
+    for r in rows {
+        let factor = r
+            .factor_nnz
+            .map_or_else(|| "-".to_string(), |n| n.to_string());
+        out += &format!(
+            "{:<15} {:>9} {:>8} {:>10} {:<8} {:<6} {:>7.3} {:>7.3} {:>7.3} {:>7.3} {:>7.3} {:>7.3} {:>7.3} {:>11} {:>8.1e}\n",
+            r.system.label(),
+            format!("{}x{}", r.grid[0], r.grid[1]),
+            r.n_eq,
+            r.nnz,
+            r.solver,
+            r.ordering,
+            r.pattern_s,
+            r.assembly_s,
+            r.ordering_s,
+            r.symbolic_s,
+            r.factorize_s,
+            r.refactorize_s,
+            r.solve_s,
+            factor,
+            r.relative_residual
+        );
+    }
+    out
+}
+
+/// The benchmark mesh: control points, bulk elements and (for the saddle point) multipliers.
+struct BenchMesh {
+    nx: usize,
+    ny: usize,
+    fields: usize,
+    n_bulk: usize,
+    n_eq: usize,
+    element_eqs: Vec<Vec<Option<usize>>>,
+    coords: Vec<[f64; 3]>,
+}
+
+impl BenchMesh {
+    fn new(system: BenchSystem, target_unknowns: usize) -> Self {
+        let fields = system.fields();
+        let nx = (((2 * target_unknowns) as f64 / fields as f64)
+            .sqrt()
+            .round() as usize)
+            .max(6);
+        let ny = nx / 2;
+        let n_disp = fields * nx * ny;
+        let mut element_eqs = Vec::with_capacity((nx - 2) * (ny - 2) + nx);
+        for ey in 0..ny - 2 {
+            for ex in 0..nx - 2 {
+                let mut eqs = Vec::with_capacity(9 * fields);
+                for ly in 0..3 {
+                    for lx in 0..3 {
+                        let cp = (ey + ly) * nx + ex + lx;
+                        eqs.extend((0..fields).map(|f| Some(cp * fields + f)));
+                    }
+                }
+                element_eqs.push(eqs);
+            }
+        }
+        let n_bulk = element_eqs.len();
+        let h = 2.0 / (nx - 1) as f64;
+        let mut coords: Vec<[f64; 3]> = (0..n_disp)
+            .map(|i| {
+                let cp = i / fields;
+                [(cp % nx) as f64 * h, (cp / nx) as f64 * h, 0.0]
+            })
+            .collect();
+        let mut n_eq = n_disp;
+        if system == BenchSystem::SaddlePoint {
+            // Top-edge segments: u_y of 3 control points and their 3 multipliers.
+            for ex in 0..nx - 2 {
+                let top = |l: usize| (ny - 1) * nx + ex + l;
+                let mut eqs: Vec<Option<usize>> =
+                    (0..3).map(|l| Some(top(l) * fields + 1)).collect();
+                eqs.extend((0..3).map(|l| Some(n_disp + ex + l)));
+                element_eqs.push(eqs);
+            }
+            coords.extend((0..nx).map(|i| [i as f64 * h, (ny - 1) as f64 * h, 0.0]));
+            n_eq += nx;
+        }
+        Self {
+            nx,
+            ny,
+            fields,
+            n_bulk,
+            n_eq,
+            element_eqs,
+            coords,
+        }
+    }
+
+    fn bulk_element(&self, e: usize) -> BenchElement {
+        let (ex, ey) = (e % (self.nx - 2), e / (self.nx - 2));
+        let h = 2.0 / (self.nx - 1) as f64;
+        let mut control_points = [[0.0; 2]; 9];
+        for (a, point) in control_points.iter_mut().enumerate() {
+            *point = [(ex + a % 3) as f64 * h, (ey + a / 3) as f64 * h];
+        }
+        BenchElement {
+            index: e,
+            span: [ex, ey],
+            fields: self.fields,
+            control_points,
+        }
+    }
+
+    fn signs(&self) -> Vec<i8> {
+        let n_disp = self.fields * self.nx * self.ny;
+        (0..self.n_eq)
+            .map(|i| if i < n_disp { 1 } else { -1 })
+            .collect()
+    }
+}
+
+fn run_case(
+    system: BenchSystem,
+    size: usize,
+    solver: &'static str,
+    ordering: &'static str,
+    kernel: &ElementKernel<'_>,
+) -> Result<BenchRow> {
+    let mut mesh = BenchMesh::new(system, size);
+    let element_eqs = std::mem::take(&mut mesh.element_eqs);
+    let h = 2.0 / (mesh.nx - 1) as f64;
+    let t = Instant::now();
+    let assembly = Assembly::new(mesh.n_eq, element_eqs);
+    let pattern_s = t.elapsed().as_secs_f64();
+
+    let element = |e: usize, k: &mut [f64], r: &mut [f64], scale: f64| -> Result<()> {
+        if e < mesh.n_bulk {
+            kernel(&mesh.bulk_element(e), k, r)?;
+        } else {
+            multiplier_coupling(h, k);
+        }
+        k.iter_mut().for_each(|v| *v *= scale);
+        Ok(())
+    };
+    let mut values = vec![0.0; assembly.nnz()];
+    let mut rhs = vec![0.0; assembly.n_eq()];
+    let t = Instant::now();
+    assembly.assemble(&mut values, &mut rhs, |e, k, r| element(e, k, r, 1.0))?;
+    let assembly_s = t.elapsed().as_secs_f64();
+
+    let t = Instant::now();
+    let order = match ordering {
+        "ND" => Ordering::Custom(nested_dissection(assembly.symbolic(), &mesh.coords)),
+        _ => Ordering::Default,
+    };
+    let ordering_s = if ordering == "ND" {
+        t.elapsed().as_secs_f64()
+    } else {
+        0.0
+    };
+    let kind = match solver {
+        "Cholesky" => Factorization::Cholesky,
+        "LDLT" => Factorization::Ldlt {
+            signs: mesh.signs(),
+        },
+        _ => Factorization::Lu,
+    };
+    let t = Instant::now();
+    let mut linear = LinearSolver::new(assembly.symbolic(), kind, order)?;
+    let symbolic_s = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    linear.factorize(&values)?;
+    let factorize_s = t.elapsed().as_secs_f64();
+
+    // New values, as after a Newton update: every element block rescaled differently. The
+    // second assembly, the refactorization and the solve are timed best of two (shared machine).
+    let mut values_new = vec![0.0; assembly.nnz()];
+    let mut rhs_new = vec![0.0; assembly.n_eq()];
+    let t = Instant::now();
+    assembly.assemble(&mut values_new, &mut rhs_new, |e, k, r| {
+        element(e, k, r, 1.0 + 0.25 * ((e * 7919) % 13) as f64 / 13.0)
+    })?;
+    let assembly_s = assembly_s.min(t.elapsed().as_secs_f64());
+    let mut refactorize_s = f64::INFINITY;
+    let mut solve_s = f64::INFINITY;
+    let mut x = rhs_new.clone();
+    for _ in 0..2 {
+        let t = Instant::now();
+        linear.factorize(&values_new)?;
+        refactorize_s = refactorize_s.min(t.elapsed().as_secs_f64());
+        x.copy_from_slice(&rhs_new);
+        let t = Instant::now();
+        linear.solve_in_place(&mut x)?;
+        solve_s = solve_s.min(t.elapsed().as_secs_f64());
+    }
+    let relative_residual = relative_residual(&assembly, &values_new, &x, &rhs_new);
+    if !relative_residual.is_finite() {
+        return Err(Error::LinearSolver(format!(
+            "bench {system:?} {solver}: non-finite residual"
+        )));
+    }
+    Ok(BenchRow {
+        system,
+        grid: [mesh.nx, mesh.ny],
+        n_eq: assembly.n_eq(),
+        nnz: assembly.nnz(),
+        solver,
+        ordering,
+        pattern_s,
+        assembly_s,
+        ordering_s,
+        symbolic_s,
+        factorize_s,
+        refactorize_s,
+        solve_s,
+        factor_nnz: linear.factor_nnz(),
+        relative_residual,
+    })
+}
+
+/// ‖Ax − b‖∞ / ‖b‖∞.
+fn relative_residual(assembly: &Assembly, values: &[f64], x: &[f64], b: &[f64]) -> f64 {
+    let pattern = assembly.symbolic();
+    let mut r = b.to_vec();
+    for (j, &xj) in x.iter().enumerate() {
+        for k in pattern.col_range(j) {
+            r[pattern.row_idx()[k]] -= values[k] * xj;
+        }
+    }
+    let norm = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    norm(&r) / norm(b)
+}
+
+/// 1D quadratic B-spline basis on a knot span, t ∈ [0, 1]: values and d/dt.
+fn quadratic_bspline(t: f64) -> ([f64; 3], [f64; 3]) {
+    (
+        [0.5 * (1.0 - t) * (1.0 - t), 0.5 + t - t * t, 0.5 * t * t],
+        [t - 1.0, 1.0 - 2.0 * t, t],
+    )
+}
+
+/// 3-point Gauss–Legendre rule on [0, 1].
+const GAUSS_3: [(f64, f64); 3] = [
+    (0.112_701_665_379_258_31, 5.0 / 18.0),
+    (0.5, 8.0 / 18.0),
+    (0.887_298_334_620_741_7, 5.0 / 18.0),
+];
+
+/// Saddle-point coupling of a top-edge segment, local dofs [u_y(3), λ(3)]:
+/// k = [0 Mᵀ; M 0], M the 1D mass matrix of the segment (length h).
+fn multiplier_coupling(h: f64, k: &mut [f64]) {
+    for &(t, w) in &GAUSS_3 {
+        let (n, _) = quadratic_bspline(t);
+        for a in 0..3 {
+            for b in 0..3 {
+                let m = w * h * n[a] * n[b];
+                k[(3 + b) * 6 + a] += m; // row u_a, column λ_b
+                k[b * 6 + 3 + a] += m; // row λ_a, column u_b
+            }
+        }
+    }
+}
+
+/// Synthetic element kernel of realistic cost: 3 × 3 Gauss points, Jacobian from the control
+/// points, then by `fields`: 1 — ∇N·∇N + N N (SPD); 2 — plane elasticity (λ = μ = 1) + mass
+/// (SPD); 3 — elasticity, conduction with advection v = (1, ½), and nonsymmetric
+/// displacement–temperature coupling. Residual: a constant body load.
+pub fn synthetic_kernel(element: &BenchElement, k: &mut [f64], r: &mut [f64]) -> Result<()> {
+    let nf = element.fields;
+    let n = 9 * nf;
+    if !(1..=3).contains(&nf) || k.len() != n * n || r.len() != n {
+        return Err(Error::invalid(
+            "bench.fields",
+            nf,
+            "1, 2 or 3 fields with a 9·fields element block",
+        ));
+    }
+    let (lambda, mu, beta, gamma, velocity) = (1.0, 1.0, 0.3, 0.1, [1.0, 0.5]);
+    let mut shape = [0.0; 9];
+    let mut grad = [[0.0; 2]; 9];
+    for &(ty, wy) in &GAUSS_3 {
+        for &(tx, wx) in &GAUSS_3 {
+            let ((nx, dx), (ny, dy)) = (quadratic_bspline(tx), quadratic_bspline(ty));
+            let mut jac = [[0.0; 2]; 2]; // ∂x_i/∂ξ_j
+            for a in 0..9 {
+                let (lx, ly) = (a % 3, a / 3);
+                shape[a] = nx[lx] * ny[ly];
+                let dxi = [dx[lx] * ny[ly], nx[lx] * dy[ly]];
+                for (row, x_i) in jac.iter_mut().zip(element.control_points[a]) {
+                    for (entry, dxi_j) in row.iter_mut().zip(dxi) {
+                        *entry += x_i * dxi_j;
+                    }
+                }
+                grad[a] = dxi;
+            }
+            let det = jac[0][0] * jac[1][1] - jac[0][1] * jac[1][0];
+            if det <= 0.0 {
+                return Err(Error::Geometry(format!(
+                    "bench element {}: Jacobian {det} ≤ 0",
+                    element.index
+                )));
+            }
+            let inv = [
+                [jac[1][1] / det, -jac[0][1] / det],
+                [-jac[1][0] / det, jac[0][0] / det],
+            ];
+            for g in grad.iter_mut() {
+                let dxi = *g;
+                *g = [
+                    dxi[0] * inv[0][0] + dxi[1] * inv[1][0],
+                    dxi[0] * inv[0][1] + dxi[1] * inv[1][1],
+                ];
+            }
+            let w = wx * wy * det;
+            for b in 0..9 {
+                for a in 0..9 {
+                    let dot = grad[a][0] * grad[b][0] + grad[a][1] * grad[b][1];
+                    let mass = shape[a] * shape[b];
+                    if nf == 1 {
+                        k[b * n + a] += w * (dot + mass);
+                        continue;
+                    }
+                    for i in 0..2 {
+                        for j in 0..2 {
+                            let delta = if i == j { dot + mass } else { 0.0 };
+                            let elastic = lambda * grad[a][i] * grad[b][j]
+                                + mu * (grad[a][j] * grad[b][i] + delta);
+                            k[(b * nf + j) * n + a * nf + i] += w * elastic;
+                        }
+                    }
+                    if nf == 3 {
+                        let advection =
+                            shape[a] * (velocity[0] * grad[b][0] + velocity[1] * grad[b][1]);
+                        k[(b * nf + 2) * n + a * nf + 2] += w * (dot + mass + advection);
+                        for i in 0..2 {
+                            k[(b * nf + 2) * n + a * nf + i] -= w * beta * grad[a][i] * shape[b];
+                            k[(b * nf + i) * n + a * nf + 2] += w * gamma * shape[a] * grad[b][i];
+                        }
+                    }
+                }
+            }
+            for a in 0..9 {
+                for f in 0..nf {
+                    r[a * nf + f] += w * shape[a] * if f == 1 { -1.0 } else { 0.5 };
+                }
+            }
+        }
+    }
+    Ok(())
+}

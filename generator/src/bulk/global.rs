@@ -1,1 +1,466 @@
 //! Sparse assembly: pattern and scatter map built once, values filled per iteration.
+//!
+//! [`Assembly::new`] takes, for every element, the global equation of each local
+//! degree of freedom (or `None` for a prescribed one) and builds once
+//! - the CSC pattern of the global matrix (the union of all element blocks plus the
+//!   diagonal, rows sorted within each column),
+//! - the scatter map: for every entry of every element block its position in the
+//!   CSC values,
+//! - a greedy element coloring: no two elements of one color share an equation.
+//!
+//! [`Assembly::assemble`] then evaluates the element kernels color by color, the
+//! elements of one color in parallel, each scattering straight into the global
+//! arrays. Within a color every global entry receives at most one element's
+//! contribution, so every entry is summed in the same order (color by color, and
+//! within an element in local order) whatever the number of threads: the result
+//! is bit-identical for any rayon pool.
+
+use crate::{Error, Result};
+use faer::sparse::{SymbolicSparseColMat, SymbolicSparseColMatRef};
+use rayon::prelude::*;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// Marks a dropped (prescribed) local dof and a dropped scatter entry.
+const DROPPED: usize = usize::MAX;
+/// Marks a dropped entry in the 32-bit scatter map.
+const DROPPED_ENTRY: u32 = u32::MAX;
+
+/// Element-to-equation map and CSC pattern built once; values filled per iteration.
+#[derive(Debug, Clone)]
+pub struct Assembly {
+    n_eq: usize,
+    pattern: SymbolicSparseColMat<usize>,
+    /// Element e's local dofs are `dof_eq[dof_ptr[e]..dof_ptr[e + 1]]`.
+    dof_ptr: Vec<usize>,
+    /// Global equation of each local dof, [`DROPPED`] if prescribed.
+    dof_eq: Vec<usize>,
+    /// Element e's block entries (column-major) are `entry_pos[entry_ptr[e]..entry_ptr[e + 1]]`.
+    entry_ptr: Vec<usize>,
+    /// Position of each element-block entry in the CSC values, [`DROPPED_ENTRY`] if dropped.
+    entry_pos: Vec<u32>,
+    /// Elements of color c are `color_elements[color_ptr[c]..color_ptr[c + 1]]`, in element order.
+    color_ptr: Vec<usize>,
+    color_elements: Vec<usize>,
+}
+
+impl Assembly {
+    /// `n_eq` unknowns; `element_eqs[e]` lists, for each local dof of element e, its global
+    /// equation or None (a prescribed dof: its row and column are dropped). Several local dofs
+    /// may map to the same equation (periodic or platen ties): their contributions add. The
+    /// pattern is the union of all element blocks, plus the full diagonal (so that equations
+    /// such as Lagrange multipliers with a zero diagonal keep a structural diagonal entry).
+    ///
+    /// Panics if an equation is `>= n_eq` or the pattern has `u32::MAX` entries or more.
+    #[track_caller]
+    pub fn new(n_eq: usize, element_eqs: Vec<Vec<Option<usize>>>) -> Self {
+        let n_elements = element_eqs.len();
+        let mut dof_ptr = Vec::with_capacity(n_elements + 1);
+        dof_ptr.push(0);
+        let mut dof_eq = Vec::with_capacity(element_eqs.iter().map(Vec::len).sum());
+        for (e, eqs) in element_eqs.iter().enumerate() {
+            for &eq in eqs {
+                match eq {
+                    Some(i) => {
+                        assert!(
+                            i < n_eq,
+                            "element {e}: equation {i} out of range (n_eq = {n_eq})"
+                        );
+                        dof_eq.push(i);
+                    }
+                    None => dof_eq.push(DROPPED),
+                }
+            }
+            dof_ptr.push(dof_eq.len());
+        }
+        drop(element_eqs);
+
+        let (eq_elem_ptr, eq_elems) = equation_to_elements(n_eq, &dof_ptr, &dof_eq);
+        let pattern = build_pattern(n_eq, &dof_ptr, &dof_eq, &eq_elem_ptr, &eq_elems);
+        assert!(
+            pattern.row_idx().len() < DROPPED_ENTRY as usize,
+            "assembly pattern too large for the 32-bit scatter map ({} entries)",
+            pattern.row_idx().len()
+        );
+        let (entry_ptr, entry_pos) = build_scatter_map(&pattern, &dof_ptr, &dof_eq);
+        let (color_ptr, color_elements) =
+            color_elements(&dof_ptr, &dof_eq, &eq_elem_ptr, &eq_elems);
+        Self {
+            n_eq,
+            pattern,
+            dof_ptr,
+            dof_eq,
+            entry_ptr,
+            entry_pos,
+            color_ptr,
+            color_elements,
+        }
+    }
+
+    /// Number of unknowns (rows and columns of the global matrix).
+    pub fn n_eq(&self) -> usize {
+        self.n_eq
+    }
+
+    /// Number of structural nonzeros of the global matrix (length of `values`).
+    pub fn nnz(&self) -> usize {
+        self.pattern.row_idx().len()
+    }
+
+    /// Number of elements.
+    pub fn n_elements(&self) -> usize {
+        self.dof_ptr.len() - 1
+    }
+
+    /// Number of local dofs of element `e` (the element block is `n_dofs × n_dofs`).
+    pub fn n_dofs(&self, e: usize) -> usize {
+        self.dof_ptr[e + 1] - self.dof_ptr[e]
+    }
+
+    /// Global equations of element `e`'s local dofs (`None` for prescribed ones).
+    pub fn element_eqs(&self, e: usize) -> impl Iterator<Item = Option<usize>> + '_ {
+        self.dof_eq[self.dof_ptr[e]..self.dof_ptr[e + 1]]
+            .iter()
+            .map(|&i| (i != DROPPED).then_some(i))
+    }
+
+    /// Number of element colors (parallel stages of one assembly).
+    pub fn n_colors(&self) -> usize {
+        self.color_ptr.len() - 1
+    }
+
+    /// The CSC pattern: full (both triangles), rows sorted within each column, diagonal included.
+    pub fn symbolic(&self) -> SymbolicSparseColMatRef<'_, usize> {
+        self.pattern.as_ref()
+    }
+
+    /// The global matrix as a faer view over `values` (CSC, length [`Self::nnz`]).
+    #[track_caller]
+    pub fn matrix<'a>(
+        &'a self,
+        values: &'a [f64],
+    ) -> faer::sparse::SparseColMatRef<'a, usize, f64> {
+        faer::sparse::SparseColMatRef::new(self.symbolic(), values)
+    }
+
+    /// Calls `local(e, k_e, r_e)` for every element in parallel (rayon), `k_e` a zeroed dense
+    /// n_e×n_e column-major buffer, `r_e` a zeroed n_e vector; scatters into `values` (CSC,
+    /// length nnz) and `rhs` (n_eq), both zeroed first. The result is bit-identical for any
+    /// number of rayon threads (elements are processed color by color). If local closures fail,
+    /// the first error in element order is returned (and `values`, `rhs` are incomplete).
+    #[track_caller]
+    pub fn assemble<F>(&self, values: &mut [f64], rhs: &mut [f64], local: F) -> Result<()>
+    where
+        F: Fn(usize, &mut [f64], &mut [f64]) -> Result<()> + Sync,
+    {
+        assert_eq!(
+            values.len(),
+            self.nnz(),
+            "assemble: values.len() must equal nnz"
+        );
+        assert_eq!(rhs.len(), self.n_eq, "assemble: rhs.len() must equal n_eq");
+        values.par_iter_mut().for_each(|v| *v = 0.0);
+        rhs.fill(0.0);
+        let values = SharedSlice::new(values);
+        let rhs = SharedSlice::new(rhs);
+        self.for_each_element_by_color(|e, k_e, r_e| {
+            let n = self.n_dofs(e);
+            k_e.clear();
+            k_e.resize(n * n, 0.0);
+            r_e.clear();
+            r_e.resize(n, 0.0);
+            local(e, k_e, r_e)?;
+            let eqs = &self.dof_eq[self.dof_ptr[e]..self.dof_ptr[e + 1]];
+            let pos = &self.entry_pos[self.entry_ptr[e]..self.entry_ptr[e + 1]];
+            // SAFETY: elements of one color share no equation, hence no matrix entry and no rhs
+            // entry; colors are processed one after the other.
+            unsafe {
+                for (&p, &k) in pos.iter().zip(k_e.iter()) {
+                    if p != DROPPED_ENTRY {
+                        values.add(p as usize, k);
+                    }
+                }
+                for (&i, &r) in eqs.iter().zip(r_e.iter()) {
+                    if i != DROPPED {
+                        rhs.add(i, r);
+                    }
+                }
+            }
+            Ok(())
+        })
+    }
+
+    /// Residual only (no matrix), same guarantees as [`Self::assemble`]: `local(e, r_e)` with
+    /// `r_e` a zeroed n_e vector, scattered into `rhs` (zeroed first).
+    #[track_caller]
+    pub fn assemble_vector<F>(&self, rhs: &mut [f64], local: F) -> Result<()>
+    where
+        F: Fn(usize, &mut [f64]) -> Result<()> + Sync,
+    {
+        assert_eq!(
+            rhs.len(),
+            self.n_eq,
+            "assemble_vector: rhs.len() must equal n_eq"
+        );
+        rhs.fill(0.0);
+        let rhs = SharedSlice::new(rhs);
+        self.for_each_element_by_color(|e, _, r_e| {
+            r_e.clear();
+            r_e.resize(self.n_dofs(e), 0.0);
+            local(e, r_e)?;
+            let eqs = &self.dof_eq[self.dof_ptr[e]..self.dof_ptr[e + 1]];
+            // SAFETY: as in `assemble`.
+            unsafe {
+                for (&i, &r) in eqs.iter().zip(r_e.iter()) {
+                    if i != DROPPED {
+                        rhs.add(i, r);
+                    }
+                }
+            }
+            Ok(())
+        })
+    }
+
+    /// Runs `work(e, k_buffer, r_buffer)` on every element, color after color, the elements of
+    /// one color in parallel. Elements after the first failed one are skipped; the error of the
+    /// lowest failing element is returned.
+    fn for_each_element_by_color<W>(&self, work: W) -> Result<()>
+    where
+        W: Fn(usize, &mut Vec<f64>, &mut Vec<f64>) -> Result<()> + Sync,
+    {
+        let first_failure = AtomicUsize::new(usize::MAX);
+        let failures: Mutex<Vec<(usize, Error)>> = Mutex::new(Vec::new());
+        for c in 0..self.n_colors() {
+            let elements = &self.color_elements[self.color_ptr[c]..self.color_ptr[c + 1]];
+            elements.par_iter().with_min_len(16).for_each_init(
+                || (Vec::new(), Vec::new()),
+                |(k_e, r_e), &e| {
+                    if e > first_failure.load(Ordering::Relaxed) {
+                        return;
+                    }
+                    if let Err(err) = work(e, k_e, r_e) {
+                        first_failure.fetch_min(e, Ordering::Relaxed);
+                        failures
+                            .lock()
+                            .unwrap_or_else(|p| p.into_inner())
+                            .push((e, err));
+                    }
+                },
+            );
+        }
+        let failures = failures.into_inner().unwrap_or_else(|p| p.into_inner());
+        match failures.into_iter().min_by_key(|(e, _)| *e) {
+            Some((_, err)) => Err(err),
+            None => Ok(()),
+        }
+    }
+}
+
+/// For each equation, the elements that contain it (each element once, in element order).
+fn equation_to_elements(
+    n_eq: usize,
+    dof_ptr: &[usize],
+    dof_eq: &[usize],
+) -> (Vec<usize>, Vec<usize>) {
+    let n_elements = dof_ptr.len() - 1;
+    let mut last = vec![usize::MAX; n_eq];
+    let mut count = vec![0usize; n_eq + 1];
+    for e in 0..n_elements {
+        for &i in &dof_eq[dof_ptr[e]..dof_ptr[e + 1]] {
+            if i != DROPPED && last[i] != e {
+                last[i] = e;
+                count[i + 1] += 1;
+            }
+        }
+    }
+    for i in 0..n_eq {
+        count[i + 1] += count[i];
+    }
+    let ptr = count;
+    let mut next = ptr.clone();
+    let mut elems = vec![0usize; ptr[n_eq]];
+    last.fill(usize::MAX);
+    for e in 0..n_elements {
+        for &i in &dof_eq[dof_ptr[e]..dof_ptr[e + 1]] {
+            if i != DROPPED && last[i] != e {
+                last[i] = e;
+                elems[next[i]] = e;
+                next[i] += 1;
+            }
+        }
+    }
+    (ptr, elems)
+}
+
+/// Column j holds j and every equation of every element containing j, sorted. Columns are
+/// built in parallel chunks and concatenated in order.
+fn build_pattern(
+    n_eq: usize,
+    dof_ptr: &[usize],
+    dof_eq: &[usize],
+    eq_elem_ptr: &[usize],
+    eq_elems: &[usize],
+) -> SymbolicSparseColMat<usize> {
+    const CHUNK: usize = 2048;
+    let chunks: Vec<(Vec<usize>, Vec<usize>)> = (0..n_eq.div_ceil(CHUNK))
+        .into_par_iter()
+        .map_init(
+            || vec![usize::MAX; n_eq],
+            |marker, c| {
+                let columns = c * CHUNK..((c + 1) * CHUNK).min(n_eq);
+                let mut col_len = Vec::with_capacity(columns.len());
+                let mut rows = Vec::new();
+                for j in columns {
+                    let start = rows.len();
+                    marker[j] = j;
+                    rows.push(j);
+                    for &e in &eq_elems[eq_elem_ptr[j]..eq_elem_ptr[j + 1]] {
+                        for &i in &dof_eq[dof_ptr[e]..dof_ptr[e + 1]] {
+                            if i != DROPPED && marker[i] != j {
+                                marker[i] = j;
+                                rows.push(i);
+                            }
+                        }
+                    }
+                    rows[start..].sort_unstable();
+                    col_len.push(rows.len() - start);
+                }
+                (col_len, rows)
+            },
+        )
+        .collect();
+    let mut col_ptr = Vec::with_capacity(n_eq + 1);
+    col_ptr.push(0);
+    let mut row_idx = Vec::with_capacity(chunks.iter().map(|(_, rows)| rows.len()).sum());
+    for (col_len, rows) in chunks {
+        for len in col_len {
+            col_ptr.push(col_ptr.last().copied().unwrap_or(0) + len);
+        }
+        row_idx.extend_from_slice(&rows);
+    }
+    SymbolicSparseColMat::new_checked(n_eq, n_eq, col_ptr, None, row_idx)
+}
+
+/// Position in the CSC values of every entry (column-major) of every element block.
+fn build_scatter_map(
+    pattern: &SymbolicSparseColMat<usize>,
+    dof_ptr: &[usize],
+    dof_eq: &[usize],
+) -> (Vec<usize>, Vec<u32>) {
+    let n_elements = dof_ptr.len() - 1;
+    let mut entry_ptr = Vec::with_capacity(n_elements + 1);
+    entry_ptr.push(0);
+    for e in 0..n_elements {
+        let n = dof_ptr[e + 1] - dof_ptr[e];
+        entry_ptr.push(entry_ptr[e] + n * n);
+    }
+    let mut entry_pos = vec![DROPPED_ENTRY; entry_ptr[n_elements]];
+    // Split the map into per-element slices, then fill them in parallel.
+    let mut blocks = Vec::with_capacity(n_elements);
+    let mut rest = entry_pos.as_mut_slice();
+    for e in 0..n_elements {
+        let (head, tail) = rest.split_at_mut(entry_ptr[e + 1] - entry_ptr[e]);
+        blocks.push(head);
+        rest = tail;
+    }
+    let col_ptr = pattern.col_ptr();
+    let row_idx = pattern.row_idx();
+    blocks.into_par_iter().enumerate().for_each(|(e, block)| {
+        let eqs = &dof_eq[dof_ptr[e]..dof_ptr[e + 1]];
+        let n = eqs.len();
+        for (b, &j) in eqs.iter().enumerate() {
+            if j == DROPPED {
+                continue;
+            }
+            let column = &row_idx[col_ptr[j]..col_ptr[j + 1]];
+            for (a, &i) in eqs.iter().enumerate() {
+                if i == DROPPED {
+                    continue;
+                }
+                let k = column
+                    .binary_search(&i)
+                    .expect("element entry missing from the pattern");
+                block[b * n + a] = (col_ptr[j] + k) as u32;
+            }
+        }
+    });
+    (entry_ptr, entry_pos)
+}
+
+/// Greedy coloring in element order: an element takes the smallest color not used by an
+/// already-colored element sharing one of its equations.
+fn color_elements(
+    dof_ptr: &[usize],
+    dof_eq: &[usize],
+    eq_elem_ptr: &[usize],
+    eq_elems: &[usize],
+) -> (Vec<usize>, Vec<usize>) {
+    let n_elements = dof_ptr.len() - 1;
+    let mut color = vec![usize::MAX; n_elements];
+    let mut forbidden: Vec<usize> = Vec::new(); // forbidden[c] == e: color c taken near e
+    let mut n_colors = 0;
+    for e in 0..n_elements {
+        for &i in &dof_eq[dof_ptr[e]..dof_ptr[e + 1]] {
+            if i == DROPPED {
+                continue;
+            }
+            for &f in &eq_elems[eq_elem_ptr[i]..eq_elem_ptr[i + 1]] {
+                if f < e {
+                    forbidden[color[f]] = e;
+                }
+            }
+        }
+        let c = (0..n_colors)
+            .find(|&c| forbidden[c] != e)
+            .unwrap_or(n_colors);
+        if c == n_colors {
+            n_colors += 1;
+            forbidden.push(usize::MAX);
+        }
+        color[e] = c;
+    }
+    let mut color_ptr = vec![0usize; n_colors + 1];
+    for &c in &color {
+        color_ptr[c + 1] += 1;
+    }
+    for c in 0..n_colors {
+        color_ptr[c + 1] += color_ptr[c];
+    }
+    let mut next = color_ptr.clone();
+    let mut color_elements = vec![0usize; n_elements];
+    for (e, &c) in color.iter().enumerate() {
+        color_elements[next[c]] = e;
+        next[c] += 1;
+    }
+    (color_ptr, color_elements)
+}
+
+/// A mutable slice shared between rayon workers that write disjoint entries.
+struct SharedSlice {
+    ptr: *mut f64,
+    len: usize,
+}
+
+// SAFETY: access goes through `add`, whose callers guarantee disjoint entries per thread.
+unsafe impl Sync for SharedSlice {}
+unsafe impl Send for SharedSlice {}
+
+impl SharedSlice {
+    fn new(slice: &mut [f64]) -> Self {
+        Self {
+            ptr: slice.as_mut_ptr(),
+            len: slice.len(),
+        }
+    }
+
+    /// Adds `v` to entry `i`.
+    ///
+    /// # Safety
+    /// No other thread may access entry `i` concurrently, and the borrowed slice must outlive `self`.
+    #[inline]
+    unsafe fn add(&self, i: usize, v: f64) {
+        debug_assert!(i < self.len);
+        // SAFETY: in bounds (positions come from the pattern); exclusive per the caller's contract.
+        unsafe { *self.ptr.add(i) += v };
+    }
+}

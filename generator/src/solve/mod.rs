@@ -1,8 +1,9 @@
 //! Degrees of freedom, boundary conditions, linear solvers and Newton's method.
-pub mod linear;
 pub mod dofs;
+pub mod linear;
 pub mod model;
 pub mod newton;
+pub mod ordering;
 pub mod scales;
 
 pub use dofs::{Dof, DofMap, DofMapBuilder};
