@@ -40,7 +40,9 @@ pub enum Error {
         reason: String,
     },
     /// Adaptive load stepping cut the step below its minimum.
-    #[error("load stepping stalled at load factor {load_factor:.6}: step {step_size:.3e} below the minimum; last failure: {last}")]
+    #[error(
+        "load stepping stalled at load factor {load_factor:.6}: step {step_size:.3e} below the minimum; last failure: {last}"
+    )]
     LoadStepStalled {
         /// The last converged load factor.
         load_factor: f64,
@@ -67,7 +69,15 @@ pub type Result<T> = std::result::Result<T, Error>;
 
 impl Error {
     /// Shorthand for [`Error::InvalidInput`].
-    pub fn invalid(field: impl Into<String>, value: impl std::fmt::Display, expected: impl Into<String>) -> Self {
-        Error::InvalidInput { field: field.into(), value: value.to_string(), expected: expected.into() }
+    pub fn invalid(
+        field: impl Into<String>,
+        value: impl std::fmt::Display,
+        expected: impl Into<String>,
+    ) -> Self {
+        Error::InvalidInput {
+            field: field.into(),
+            value: value.to_string(),
+            expected: expected.into(),
+        }
     }
 }

@@ -5,7 +5,11 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 #[derive(Parser)]
-#[command(name = "tcgen", version, about = "Thermal contact resistance of rough interfaces by computational homogenization (Temizer 2014)")]
+#[command(
+    name = "tcgen",
+    version,
+    about = "Thermal contact resistance of rough interfaces by computational homogenization (Temizer 2014)"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -71,7 +75,10 @@ fn verify(json: bool, filter: Option<String>, list: bool) -> ExitCode {
             Err(e) => {
                 failed += 1;
                 if json {
-                    println!("{}", serde_json::json!({"case": c.name, "error": e.to_string(), "pass": false}));
+                    println!(
+                        "{}",
+                        serde_json::json!({"case": c.name, "error": e.to_string(), "pass": false})
+                    );
                 } else {
                     eprintln!("{:<28} ERROR: {e}", c.name);
                 }
@@ -80,9 +87,17 @@ fn verify(json: bool, filter: Option<String>, list: bool) -> ExitCode {
     }
     if !json {
         print!("{}", tcgen::verify::format_table(&all));
-        println!("{} passed, {} failed", all.iter().filter(|c| c.pass).count(), failed);
+        println!(
+            "{} passed, {} failed",
+            all.iter().filter(|c| c.pass).count(),
+            failed
+        );
     }
-    if failed == 0 { ExitCode::SUCCESS } else { ExitCode::FAILURE }
+    if failed == 0 {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    }
 }
 
 fn solve(path: &std::path::Path, json: bool) -> ExitCode {
@@ -96,7 +111,14 @@ fn solve(path: &std::path::Path, json: bool) -> ExitCode {
     if !json {
         println!(
             "{:>12} {:>9} {:>12} {:>12} {:>12} {:>12} {:>6} {:>6}  status",
-            "pressure/Pa", "contact", "mean_gap/m", "approach/m", "jump/K", "k/(W/m2K)", "newton", "sc"
+            "pressure/Pa",
+            "contact",
+            "mean_gap/m",
+            "approach/m",
+            "jump/K",
+            "k/(W/m2K)",
+            "newton",
+            "sc"
         );
     }
     let t = std::time::Instant::now();
@@ -124,9 +146,17 @@ fn solve(path: &std::path::Path, json: bool) -> ExitCode {
     match result {
         Ok(points) => {
             if !json {
-                eprintln!("{} points in {:.2} s", points.len(), t.elapsed().as_secs_f64());
+                eprintln!(
+                    "{} points in {:.2} s",
+                    points.len(),
+                    t.elapsed().as_secs_f64()
+                );
             }
-            if points.iter().all(|p| p.converged) { ExitCode::SUCCESS } else { ExitCode::FAILURE }
+            if points.iter().all(|p| p.converged) {
+                ExitCode::SUCCESS
+            } else {
+                ExitCode::FAILURE
+            }
         }
         Err(e) => {
             eprintln!("error: {e}");

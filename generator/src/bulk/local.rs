@@ -234,8 +234,9 @@ mod tests {
                 [0.1 * (x[1] * 1.3).sin(), -0.08 * (x[0] * 0.7).cos(), 0.0]
             })
             .collect();
-        let mut th: Vec<f64> =
-            (0..ncp).map(|a| 1.0 + 0.05 * (p.control_points()[q.conn[a]][0] - 1.2)).collect();
+        let mut th: Vec<f64> = (0..ncp)
+            .map(|a| 1.0 + 0.05 * (p.control_points()[q.conn[a]][0] - 1.2))
+            .collect();
         let src = |x: &[f64; 3]| (Vector3::new(x[0], 0.5, 0.0), 0.3 * x[1]);
         for coupling in [Coupling::Coupled, Coupling::Mechanical, Coupling::Thermal] {
             let nf = coupling.fields_per_node(2);
@@ -253,7 +254,8 @@ mod tests {
             let mut max_k: f64 = 0.0;
             for col in 0..n {
                 let (a, c) = (col / nf, col % nf);
-                let is_t = coupling == Coupling::Thermal || (coupling == Coupling::Coupled && c == 2);
+                let is_t =
+                    coupling == Coupling::Thermal || (coupling == Coupling::Coupled && c == 2);
                 let bump = |u: &mut Vec<[f64; 3]>, th: &mut Vec<f64>, d: f64| {
                     if is_t { th[a] += d } else { u[a][c] += d }
                 };
@@ -268,7 +270,10 @@ mod tests {
                     max_k = max_k.max(k[row + n * col].abs());
                 }
             }
-            assert!(max_err < 1e-6 * max_k, "{coupling:?}: tangent error {max_err:e} vs {max_k:e}");
+            assert!(
+                max_err < 1e-6 * max_k,
+                "{coupling:?}: tangent error {max_err:e} vs {max_k:e}"
+            );
         }
     }
 }

@@ -65,7 +65,11 @@ fn taylor<D: DualNum<Primitive = f64>>(ders: &[Vec<f64>], k: usize, j: usize, po
     s
 }
 
-fn master_eval<D: DualNum<Primitive = f64>>(g: &PointGeometry, z: &[D], delta: &D) -> MasterEval<D> {
+fn master_eval<D: DualNum<Primitive = f64>>(
+    g: &PointGeometry,
+    z: &[D],
+    delta: &D,
+) -> MasterEval<D> {
     let ns = g.slave_x.len();
     let p1 = g.master_ders.len();
     let mut powers = Vec::with_capacity(p1);
@@ -82,8 +86,16 @@ fn master_eval<D: DualNum<Primitive = f64>>(g: &PointGeometry, z: &[D], delta: &
     let mut th = zero();
     for j in 0..g.master_x.len() {
         let n0 = taylor(&g.master_ders, 0, j, &powers) * g.master_w[j];
-        let n1 = if p1 > 1 { taylor(&g.master_ders, 1, j, &powers) * g.master_w[j] } else { zero() };
-        let n2 = if p1 > 2 { taylor(&g.master_ders, 2, j, &powers) * g.master_w[j] } else { zero() };
+        let n1 = if p1 > 1 {
+            taylor(&g.master_ders, 1, j, &powers) * g.master_w[j]
+        } else {
+            zero()
+        };
+        let n2 = if p1 > 2 {
+            taylor(&g.master_ders, 2, j, &powers) * g.master_w[j]
+        } else {
+            zero()
+        };
         let off = 3 * (ns + j);
         for c in 0..2 {
             let xc = z[off + c].clone() + g.master_x[j][c];
@@ -106,7 +118,12 @@ fn master_eval<D: DualNum<Primitive = f64>>(g: &PointGeometry, z: &[D], delta: &
         (dda[0].clone() - dx[0].clone() * &dw * 2.0 - x[0].clone() * &ddw) * &winv,
         (dda[1].clone() - dx[1].clone() * &dw * 2.0 - x[1].clone() * &ddw) * &winv,
     ];
-    MasterEval { x, dx, ddx, theta: th * &winv }
+    MasterEval {
+        x,
+        dx,
+        ddx,
+        theta: th * &winv,
+    }
 }
 
 fn slave_point<D: DualNum<Primitive = f64>>(g: &PointGeometry, z: &[D]) -> ([D; 2], D) {
@@ -180,7 +197,10 @@ pub fn differentiate(g: &PointGeometry, z: &[f64]) -> (Derivatives, Derivatives)
         hess: h.transpose().as_slice().to_vec(),
     };
     let gap = num_dual::hessian(|x: nalgebra::DVector<_>| normal_gap(g, x.as_slice()), &zv);
-    let jump = num_dual::hessian(|x: nalgebra::DVector<_>| temperature_jump(g, x.as_slice()), &zv);
+    let jump = num_dual::hessian(
+        |x: nalgebra::DVector<_>| temperature_jump(g, x.as_slice()),
+        &zv,
+    );
     (pack(gap), pack(jump))
 }
 
@@ -204,7 +224,10 @@ mod tests {
             normal_sign: 1.0,
             clamped: false,
         };
-        let z = vec![0.01, -0.02, 1.1, 0.03, 0.01, 1.05, -0.01, 0.02, 1.0, 0.02, -0.01, 0.9, 0.0, 0.03, 0.95, -0.02, 0.0, 1.02];
+        let z = vec![
+            0.01, -0.02, 1.1, 0.03, 0.01, 1.05, -0.01, 0.02, 1.0, 0.02, -0.01, 0.9, 0.0, 0.03,
+            0.95, -0.02, 0.0, 1.02,
+        ];
         (g, z)
     }
 
@@ -232,7 +255,11 @@ mod tests {
             let f = |zz: &[f64]| {
                 let mut gg = g.clone();
                 converge(&mut gg, zz);
-                if std::ptr::eq(d, &gap) { normal_gap(&gg, zz) } else { temperature_jump(&gg, zz) }
+                if std::ptr::eq(d, &gap) {
+                    normal_gap(&gg, zz)
+                } else {
+                    temperature_jump(&gg, zz)
+                }
             };
             for i in 0..n {
                 let mut zp = z.clone();
@@ -240,7 +267,11 @@ mod tests {
                 let mut zm = z.clone();
                 zm[i] -= h;
                 let fd = (f(&zp) - f(&zm)) / (2.0 * h);
-                assert!((fd - d.grad[i]).abs() < 1e-7, "grad {i}: {fd} vs {}", d.grad[i]);
+                assert!(
+                    (fd - d.grad[i]).abs() < 1e-7,
+                    "grad {i}: {fd} vs {}",
+                    d.grad[i]
+                );
                 // Hessian column i by differences of the AD gradient at converged states.
                 let mut gp = g.clone();
                 converge(&mut gp, &zp);
@@ -253,7 +284,11 @@ mod tests {
                 };
                 for j in 0..n {
                     let fd2 = (a.grad[j] - b.grad[j]) / (2.0 * h);
-                    assert!((fd2 - d.hess[i * n + j]).abs() < 1e-6, "hess ({i},{j}): {fd2} vs {}", d.hess[i * n + j]);
+                    assert!(
+                        (fd2 - d.hess[i * n + j]).abs() < 1e-6,
+                        "hess ({i},{j}): {fd2} vs {}",
+                        d.hess[i * n + j]
+                    );
                 }
             }
         }

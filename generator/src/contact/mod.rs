@@ -36,7 +36,10 @@ pub enum ThermalContact {
 
 impl Default for ThermalContact {
     fn default() -> Self {
-        ThermalContact::Constraint { enforcement: ThermalEnforcement::AugmentedLagrangian, penalty: None }
+        ThermalContact::Constraint {
+            enforcement: ThermalEnforcement::AugmentedLagrangian,
+            penalty: None,
+        }
     }
 }
 
@@ -124,12 +127,18 @@ impl From<ContactSettings> for ContactKeys {
             mechanical_penalty: c.mechanical_penalty,
         };
         match c.thermal {
-            ThermalContact::Constraint { enforcement, penalty } => {
+            ThermalContact::Constraint {
+                enforcement,
+                penalty,
+            } => {
                 k.thermal = "constraint".into();
                 k.enforcement = enforcement;
                 k.penalty = penalty;
             }
-            ThermalContact::Constitutive { conductance_coefficient, pressure_exponent } => {
+            ThermalContact::Constitutive {
+                conductance_coefficient,
+                pressure_exponent,
+            } => {
                 k.thermal = "constitutive".into();
                 k.conductance_coefficient = Some(conductance_coefficient);
                 k.pressure_exponent = Some(pressure_exponent);
@@ -170,22 +179,45 @@ impl ContactSettings {
     /// Checks ranges; names the key in the error.
     pub fn validate(&self) -> Result<()> {
         if !(1..=64).contains(&self.interface_points) {
-            return Err(Error::invalid("contact.interface_points", self.interface_points, "an integer in 1..=64"));
+            return Err(Error::invalid(
+                "contact.interface_points",
+                self.interface_points,
+                "an integer in 1..=64",
+            ));
         }
         if let Some(f) = self.mechanical_penalty
             && !(f.is_finite() && f > 0.0)
         {
-            return Err(Error::invalid("contact.mechanical_penalty", f, "a finite number > 0"));
+            return Err(Error::invalid(
+                "contact.mechanical_penalty",
+                f,
+                "a finite number > 0",
+            ));
         }
         match self.thermal {
-            ThermalContact::Constraint { penalty: Some(e), .. } if !(e.is_finite() && e > 0.0) => {
-                Err(Error::invalid("contact.penalty", e, "a finite number > 0 (W/(m² K))"))
-            }
-            ThermalContact::Constitutive { conductance_coefficient: k, pressure_exponent: a } => {
+            ThermalContact::Constraint {
+                penalty: Some(e), ..
+            } if !(e.is_finite() && e > 0.0) => Err(Error::invalid(
+                "contact.penalty",
+                e,
+                "a finite number > 0 (W/(m² K))",
+            )),
+            ThermalContact::Constitutive {
+                conductance_coefficient: k,
+                pressure_exponent: a,
+            } => {
                 if !(k.is_finite() && k > 0.0) {
-                    Err(Error::invalid("contact.conductance_coefficient", k, "a finite number > 0"))
+                    Err(Error::invalid(
+                        "contact.conductance_coefficient",
+                        k,
+                        "a finite number > 0",
+                    ))
                 } else if !(a.is_finite() && (0.0..=10.0).contains(&a)) {
-                    Err(Error::invalid("contact.pressure_exponent", a, "a number in [0, 10]"))
+                    Err(Error::invalid(
+                        "contact.pressure_exponent",
+                        a,
+                        "a number in [0, 10]",
+                    ))
                 } else {
                     Ok(())
                 }
@@ -199,8 +231,13 @@ impl ContactSettings {
     pub fn scaled(&self, s: &crate::solve::Scales) -> ContactSettings {
         let mut c = self.clone();
         match &mut c.thermal {
-            ThermalContact::Constraint { penalty: Some(e), .. } => *e *= s.length / s.conductivity,
-            ThermalContact::Constitutive { conductance_coefficient: k, pressure_exponent: a } => {
+            ThermalContact::Constraint {
+                penalty: Some(e), ..
+            } => *e *= s.length / s.conductivity,
+            ThermalContact::Constitutive {
+                conductance_coefficient: k,
+                pressure_exponent: a,
+            } => {
                 *k *= s.stress.powf(*a) * s.length / s.conductivity;
             }
             _ => {}
@@ -211,6 +248,12 @@ impl ContactSettings {
     /// Whether the thermal multipliers λθ are unknowns.
     pub fn thermal_multipliers(&self) -> bool {
         self.thermal_method == ThermalMethod::Mortar
-            && matches!(self.thermal, ThermalContact::Constraint { enforcement: ThermalEnforcement::AugmentedLagrangian, .. })
+            && matches!(
+                self.thermal,
+                ThermalContact::Constraint {
+                    enforcement: ThermalEnforcement::AugmentedLagrangian,
+                    ..
+                }
+            )
     }
 }

@@ -125,16 +125,27 @@ impl ContactInterface {
         let (_, sidx) = sp.face(sdir, sside);
         let (master_face, midx) = mp.face(mdir, mside);
         if master_face.param_dim() != 1 {
-            return Err(Error::Geometry("contact is implemented for 2D bodies (curves)".into()));
+            return Err(Error::Geometry(
+                "contact is implemented for 2D bodies (curves)".into(),
+            ));
         }
         let slave_nodes: Vec<usize> = sidx.iter().map(|i| i + soff).collect();
         let master_nodes: Vec<usize> = midx.iter().map(|i| i + moff).collect();
-        let local_of = |g: usize| slave_nodes.iter().position(|&n| n == g + soff).expect("face node");
+        let local_of = |g: usize| {
+            slave_nodes
+                .iter()
+                .position(|&n| n == g + soff)
+                .expect("face node")
+        };
         let mut points = Vec::new();
         let mut lumped = vec![0.0; slave_nodes.len()];
         let mut node_points = vec![Vec::new(); slave_nodes.len()];
         let mut h_min = f64::INFINITY;
-        for (e, fe) in sp.face_quadrature(sdir, sside, settings.interface_points).into_iter().enumerate() {
+        for (e, fe) in sp
+            .face_quadrature(sdir, sside, settings.interface_points)
+            .into_iter()
+            .enumerate()
+        {
             let conn: Vec<usize> = fe.conn.iter().map(|&c| local_of(c)).collect();
             let len: f64 = fe.points.iter().map(|q| q.weight).sum();
             h_min = h_min.min(len);
@@ -144,30 +155,47 @@ impl ContactInterface {
                     lumped[i] += q.weight * q.r[a];
                     node_points[i].push(id);
                 }
-                points.push(SlavePoint { element: e, conn: conn.clone(), basis: q.r, weight: q.weight });
+                points.push(SlavePoint {
+                    element: e,
+                    conn: conn.clone(),
+                    basis: q.r,
+                    weight: q.weight,
+                });
             }
         }
         let owner = points
             .iter()
             .map(|p: &SlavePoint| {
-                let a = (0..p.basis.len()).fold(0, |b, a| if p.basis[a] > p.basis[b] { a } else { b });
+                let a =
+                    (0..p.basis.len()).fold(0, |b, a| if p.basis[a] > p.basis[b] { a } else { b });
                 p.conn[a]
             })
             .collect();
         if lumped.iter().any(|&a| a <= 0.0) {
-            return Err(Error::Geometry("a lumped mortar area ⟨N^I⟩ is not positive".into()));
+            return Err(Error::Geometry(
+                "a lumped mortar area ⟨N^I⟩ is not positive".into(),
+            ));
         }
         // The master's outward normal: the tangent (increasing parameter) turned
         // counter-clockwise if the body lies to its right.
-        let mid = master_face.curve_derivatives(0.5 * (master_face.knots()[0].first() + master_face.knots()[0].last()), 1);
+        let mid = master_face.curve_derivatives(
+            0.5 * (master_face.knots()[0].first() + master_face.knots()[0].last()),
+            1,
+        );
         let fq = mp.face_quadrature(mdir, mside, 2);
         let nrm = fq[fq.len() / 2].points[0].normal;
         let ccw = [-mid[1][1], mid[1][0]];
-        let normal_sign = if ccw[0] * nrm[0] + ccw[1] * nrm[1] > 0.0 { 1.0 } else { -1.0 };
+        let normal_sign = if ccw[0] * nrm[0] + ccw[1] * nrm[1] > 0.0 {
+            1.0
+        } else {
+            -1.0
+        };
         let n_s = slave_nodes.len();
         let eps_n = settings.mechanical_penalty.unwrap_or(10.0) / h_min;
         let eps_t = match settings.thermal {
-            ThermalContact::Constraint { penalty: Some(e), .. } => e,
+            ThermalContact::Constraint {
+                penalty: Some(e), ..
+            } => e,
             _ => 10.0 / h_min,
         };
         Ok(ContactInterface {
@@ -210,11 +238,19 @@ impl ContactInterface {
     pub fn prepare(&mut self, state: &[f64]) -> Result<()> {
         let nf = 3;
         let cur = |nodes: &[usize], refx: &[[f64; 3]]| -> Vec<[f64; 3]> {
-            nodes.iter().zip(refx).map(|(&n, x)| [x[0] + state[n * nf], x[1] + state[n * nf + 1], 0.0]).collect()
+            nodes
+                .iter()
+                .zip(refx)
+                .map(|(&n, x)| [x[0] + state[n * nf], x[1] + state[n * nf + 1], 0.0])
+                .collect()
         };
         let master_cur = cur(&self.master_nodes, &self.master_ref);
         let slave_cur = cur(&self.slave_nodes, &self.slave_ref);
-        let curve = NurbsPatch::new(self.master_face.knots().to_vec(), master_cur, self.master_face.weights().to_vec())?;
+        let curve = NurbsPatch::new(
+            self.master_face.knots().to_vec(),
+            master_cur,
+            self.master_face.weights().to_vec(),
+        )?;
         let kv = &curve.knots()[0];
         let p = kv.degree();
         let previous = std::mem::take(&mut self.state);
@@ -232,9 +268,19 @@ impl ContactInterface {
             let master: Vec<usize> = (span - p..=span).collect();
             let geo = PointGeometry {
                 slave_basis: sp.basis.clone(),
-                slave_x: sp.conn.iter().map(|&c| [self.slave_ref[c][0], self.slave_ref[c][1]]).collect(),
-                master_x: master.iter().map(|&j| [self.master_ref[j][0] + pr.shift, self.master_ref[j][1]]).collect(),
-                master_w: master.iter().map(|&j| self.master_face.weights()[j]).collect(),
+                slave_x: sp
+                    .conn
+                    .iter()
+                    .map(|&c| [self.slave_ref[c][0], self.slave_ref[c][1]])
+                    .collect(),
+                master_x: master
+                    .iter()
+                    .map(|&j| [self.master_ref[j][0] + pr.shift, self.master_ref[j][1]])
+                    .collect(),
+                master_w: master
+                    .iter()
+                    .map(|&j| self.master_face.weights()[j])
+                    .collect(),
                 master_ders: ders,
                 normal_sign: self.normal_sign,
                 clamped: pr.clamped,
@@ -249,7 +295,12 @@ impl ContactInterface {
                 z.extend_from_slice(&state[n * nf..n * nf + 3]);
             }
             let (gap, jump) = differentiate(&geo, &z);
-            out.push(PointState { master, projection: pr, gap, jump });
+            out.push(PointState {
+                master,
+                projection: pr,
+                gap,
+                jump,
+            });
         }
         self.state = out;
         Ok(())
@@ -323,8 +374,17 @@ impl ContactInterface {
 
     /// Equations of the contact element of slave node `i`: its unknowns, then
     /// λN^I and λθ^I when they are unknowns (`mult_eq`: first equation of each family).
-    pub fn element_eqs(&self, i: usize, dofs: &DofMap, mult_eq: (Option<usize>, Option<usize>)) -> Vec<Option<usize>> {
-        let mut v: Vec<Option<usize>> = self.element_dofs(i).into_iter().map(|(n, f)| dofs.eq(n, f)).collect();
+    pub fn element_eqs(
+        &self,
+        i: usize,
+        dofs: &DofMap,
+        mult_eq: (Option<usize>, Option<usize>),
+    ) -> Vec<Option<usize>> {
+        let mut v: Vec<Option<usize>> = self
+            .element_dofs(i)
+            .into_iter()
+            .map(|(n, f)| dofs.eq(n, f))
+            .collect();
         if let Some(e) = mult_eq.0 {
             v.push(Some(e + i));
         }
@@ -336,19 +396,29 @@ impl ContactInterface {
 
     /// Weighted gap `g^I` (4.8) at the current state.
     pub fn weighted_gap(&self, i: usize) -> f64 {
-        let s: f64 = self.node_points[i].iter().map(|&q| self.weight_of(q, i) * self.state[q].gap.value).sum();
+        let s: f64 = self.node_points[i]
+            .iter()
+            .map(|&q| self.weight_of(q, i) * self.state[q].gap.value)
+            .sum();
         s / self.lumped_area[i]
     }
 
     /// Lumped mortar temperature jump `γθ^I` (4.8).
     pub fn weighted_jump(&self, i: usize) -> f64 {
-        let s: f64 = self.node_points[i].iter().map(|&q| self.weight_of(q, i) * self.state[q].jump.value).sum();
+        let s: f64 = self.node_points[i]
+            .iter()
+            .map(|&q| self.weight_of(q, i) * self.state[q].jump.value)
+            .sum();
         s / self.lumped_area[i]
     }
 
     fn weight_of(&self, q: usize, i: usize) -> f64 {
         let sp = &self.points[q];
-        let a = sp.conn.iter().position(|&c| c == i).expect("point touches node");
+        let a = sp
+            .conn
+            .iter()
+            .position(|&c| c == i)
+            .expect("point touches node");
         sp.weight * sp.basis[a]
     }
 
@@ -370,7 +440,9 @@ impl ContactInterface {
 
     /// Freezes pressures and the active set (the thermal phase on a frozen configuration).
     pub fn freeze(&mut self) {
-        let p: Vec<f64> = (0..self.n_slave()).map(|i| self.pressure(i).max(0.0)).collect();
+        let p: Vec<f64> = (0..self.n_slave())
+            .map(|i| self.pressure(i).max(0.0))
+            .collect();
         let a: Vec<bool> = (0..self.n_slave()).map(|i| self.is_active(i)).collect();
         self.frozen = Some((p, a));
     }
@@ -382,12 +454,20 @@ impl ContactInterface {
         let nd = dofs.len();
         let n = r.len();
         let iln = if unknowns.mechanical { Some(nd) } else { None };
-        let ilt = if unknowns.thermal { Some(nd + usize::from(unknowns.mechanical)) } else { None };
+        let ilt = if unknowns.thermal {
+            Some(nd + usize::from(unknowns.mechanical))
+        } else {
+            None
+        };
         let area = self.lumped_area[i];
         // Accumulate G, H (gap) and Gt, Ht (jump) over the node's points.
         let (mut g, mut gt) = (vec![0.0; nd], vec![0.0; nd]);
         let want_h = k.is_some();
-        let (mut h, mut ht) = if want_h { (vec![0.0; nd * nd], vec![0.0; nd * nd]) } else { (Vec::new(), Vec::new()) };
+        let (mut h, mut ht) = if want_h {
+            (vec![0.0; nd * nd], vec![0.0; nd * nd])
+        } else {
+            (Vec::new(), Vec::new())
+        };
         let (mut gs, mut gts) = (0.0, 0.0);
         for &q in &self.node_points[i] {
             let w = self.weight_of(q, i);
@@ -454,15 +534,20 @@ impl ContactInterface {
                     continue;
                 }
                 let pd = self.point_dofs(q);
-                let map: Vec<Option<usize>> = pd.iter().map(|d| dofs.binary_search(d).ok()).collect();
+                let map: Vec<Option<usize>> =
+                    pd.iter().map(|d| dofs.binary_search(d).ok()).collect();
                 self.continuum_point(q, &map, &mut add_k, r);
             }
             return;
         }
         let gamma = gts / area;
         match self.settings.thermal {
-            ThermalContact::Constraint { enforcement: ThermalEnforcement::AugmentedLagrangian, .. } => {
-                let il = ilt.expect("thermal multipliers are unknowns with the augmented Lagrangian");
+            ThermalContact::Constraint {
+                enforcement: ThermalEnforcement::AugmentedLagrangian,
+                ..
+            } => {
+                let il =
+                    ilt.expect("thermal multipliers are unknowns with the augmented Lagrangian");
                 let lam = self.lambda_t[i];
                 if active {
                     let h0 = lam - self.eps_t * gamma;
@@ -473,7 +558,11 @@ impl ContactInterface {
                     if want_h {
                         for a in 0..nd {
                             for b in 0..nd {
-                                add_k(a, b, -h0 * ht[a * nd + b] + self.eps_t * gt[a] * gt[b] / area);
+                                add_k(
+                                    a,
+                                    b,
+                                    -h0 * ht[a * nd + b] + self.eps_t * gt[a] * gt[b] / area,
+                                );
                             }
                             add_k(a, il, -gt[a]);
                             add_k(il, a, -gt[a]);
@@ -484,7 +573,10 @@ impl ContactInterface {
                     add_k(il, il, -area / self.eps_t);
                 }
             }
-            ThermalContact::Constraint { enforcement: ThermalEnforcement::Penalty, .. } => {
+            ThermalContact::Constraint {
+                enforcement: ThermalEnforcement::Penalty,
+                ..
+            } => {
                 if active {
                     // h0 = −εθ γθ (4.7)
                     let h0 = -self.eps_t * gamma;
@@ -494,13 +586,20 @@ impl ContactInterface {
                     if want_h {
                         for a in 0..nd {
                             for b in 0..nd {
-                                add_k(a, b, -h0 * ht[a * nd + b] + self.eps_t * gt[a] * gt[b] / area);
+                                add_k(
+                                    a,
+                                    b,
+                                    -h0 * ht[a * nd + b] + self.eps_t * gt[a] * gt[b] / area,
+                                );
                             }
                         }
                     }
                 }
             }
-            ThermalContact::Constitutive { conductance_coefficient: kt, pressure_exponent: alpha } => {
+            ThermalContact::Constitutive {
+                conductance_coefficient: kt,
+                pressure_exponent: alpha,
+            } => {
                 if active {
                     let pn = self.pressure(i).max(0.0);
                     let c = kt * pn.powf(alpha);
@@ -510,7 +609,11 @@ impl ContactInterface {
                     }
                     if want_h {
                         // dpN/du = −εN G/A, dpN/dλN = 1 (when not frozen)
-                        let dc = if pn > 0.0 { kt * alpha * pn.powf(alpha - 1.0) } else { 0.0 };
+                        let dc = if pn > 0.0 {
+                            kt * alpha * pn.powf(alpha - 1.0)
+                        } else {
+                            0.0
+                        };
                         for a in 0..nd {
                             for b in 0..nd {
                                 let mut v = c * (gt[a] * gt[b] / area) - h0 * ht[a * nd + b];
@@ -533,18 +636,30 @@ impl ContactInterface {
     /// Sects. 5.1–5.2): `h0 = −εθ ϑc` or `−kθ pN^α ϑc` at the point, the
     /// pressure interpolated from the slave control points (frozen in its
     /// linearization). `map` takes the point's unknowns to the element's.
-    fn continuum_point(&self, q: usize, map: &[Option<usize>], add_k: &mut impl FnMut(usize, usize, f64), r: &mut [f64]) {
+    fn continuum_point(
+        &self,
+        q: usize,
+        map: &[Option<usize>],
+        add_k: &mut impl FnMut(usize, usize, f64),
+        r: &mut [f64],
+    ) {
         let sp = &self.points[q];
         let st = &self.state[q];
-        let pn: f64 = sp.conn.iter().zip(&sp.basis).map(|(&c, n)| n * self.pressure(c).max(0.0)).sum();
+        let pn: f64 = sp
+            .conn
+            .iter()
+            .zip(&sp.basis)
+            .map(|(&c, n)| n * self.pressure(c).max(0.0))
+            .sum();
         if pn <= 0.0 {
             return;
         }
         let c = match self.settings.thermal {
             ThermalContact::Constraint { .. } => self.eps_t,
-            ThermalContact::Constitutive { conductance_coefficient, pressure_exponent } => {
-                conductance_coefficient * pn.powf(pressure_exponent)
-            }
+            ThermalContact::Constitutive {
+                conductance_coefficient,
+                pressure_exponent,
+            } => conductance_coefficient * pn.powf(pressure_exponent),
         };
         let m = map.len();
         let h0 = -c * st.jump.value;
@@ -553,7 +668,12 @@ impl ContactInterface {
             r[ia] -= sp.weight * h0 * st.jump.grad[a];
             for (b, ib) in map.iter().enumerate() {
                 let Some(ib) = *ib else { continue };
-                add_k(ia, ib, sp.weight * (c * st.jump.grad[a] * st.jump.grad[b] - h0 * st.jump.hess[a * m + b]));
+                add_k(
+                    ia,
+                    ib,
+                    sp.weight
+                        * (c * st.jump.grad[a] * st.jump.grad[b] - h0 * st.jump.hess[a * m + b]),
+                );
             }
         }
     }

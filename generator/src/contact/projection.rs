@@ -29,7 +29,11 @@ fn newton(curve: &NurbsPatch, x: [f64; 2], eta0: f64, lo: f64, hi: f64) -> (f64,
         let phi = r[0] * d[1][0] + r[1] * d[1][1];
         let dphi = -(d[1][0] * d[1][0] + d[1][1] * d[1][1]) + r[0] * d[2][0] + r[1] * d[2][1];
         // Fall back to a gradient-like step where the curve is locally concave toward x.
-        let step = if dphi < 0.0 { -phi / dphi } else { phi / (d[1][0] * d[1][0] + d[1][1] * d[1][1]) };
+        let step = if dphi < 0.0 {
+            -phi / dphi
+        } else {
+            phi / (d[1][0] * d[1][0] + d[1][1] * d[1][1])
+        };
         let next = eta + step;
         if next <= lo || next >= hi {
             let e = next.clamp(lo, hi);
@@ -57,7 +61,12 @@ fn newton(curve: &NurbsPatch, x: [f64; 2], eta0: f64, lo: f64, hi: f64) -> (f64,
 /// Projects `x` onto `curve` (a 2D NURBS curve in the current configuration).
 /// `guess`: the parameter found at the previous evaluation, if any.
 /// `period`: the sample width when the master repeats periodically in x.
-pub fn project(curve: &NurbsPatch, x: [f64; 2], guess: Option<f64>, period: Option<f64>) -> Result<Projection> {
+pub fn project(
+    curve: &NurbsPatch,
+    x: [f64; 2],
+    guess: Option<f64>,
+    period: Option<f64>,
+) -> Result<Projection> {
     let kv = &curve.knots()[0];
     let (lo, hi) = (kv.first(), kv.last());
     let shifts: Vec<f64> = match period {
@@ -100,13 +109,23 @@ pub fn project(curve: &NurbsPatch, x: [f64; 2], guess: Option<f64>, period: Opti
             if period.is_some() && clamped {
                 continue;
             }
-            let cand = Projection { eta, shift, clamped, distance: d2.sqrt() };
+            let cand = Projection {
+                eta,
+                shift,
+                clamped,
+                distance: d2.sqrt(),
+            };
             if best.is_none_or(|b| cand.distance < b.distance - 1e-14) {
                 best = Some(cand);
             }
         }
     }
-    best.ok_or_else(|| Error::Geometry(format!("no projection of the point ({}, {}) onto the master surface", x[0], x[1])))
+    best.ok_or_else(|| {
+        Error::Geometry(format!(
+            "no projection of the point ({}, {}) onto the master surface",
+            x[0], x[1]
+        ))
+    })
 }
 
 #[cfg(test)]
@@ -126,7 +145,9 @@ mod tests {
 
     #[test]
     fn clamps_beyond_the_end_and_wraps_periodic_images() {
-        let line = shapes::rectangle(0.0, 1.0, 0.0, 1.0).face(1, crate::geometry::Side::Low).0;
+        let line = shapes::rectangle(0.0, 1.0, 0.0, 1.0)
+            .face(1, crate::geometry::Side::Low)
+            .0;
         let p = project(&line, [1.3, 0.2], None, None).unwrap();
         assert!(p.clamped && (p.eta - 1.0).abs() < 1e-15);
         let q = project(&line, [1.3, 0.2], None, Some(1.0)).unwrap();

@@ -45,12 +45,17 @@ pub fn accompanying_bar(
                 let (k, _) = m.conductivity(t);
                 Ok(flux * lambda * height / k)
             };
-            Ok(AbpTemperatures { upper: theta_c + bar(upper, tu)?, lower: theta_c - bar(lower, tl)? })
+            Ok(AbpTemperatures {
+                upper: theta_c + bar(upper, tu)?,
+                lower: theta_c - bar(lower, tl)?,
+            })
         }
         AbpProperties::Coupled => {
             let top = coupled_bar_top_temperature(upper, pressure, theta_c, flux, height)?;
             // Lower bar: find its bottom temperature whose top reaches θ̄c.
-            let f = |tb: f64| -> Result<f64> { Ok(coupled_bar_top_temperature(lower, pressure, tb, flux, height)? - theta_c) };
+            let f = |tb: f64| -> Result<f64> {
+                Ok(coupled_bar_top_temperature(lower, pressure, tb, flux, height)? - theta_c)
+            };
             let lambda = platen_stretch(lower, pressure, theta_c)?;
             let (k, _) = lower.conductivity(theta_c);
             let mut t0 = theta_c - flux * lambda * height / k;
@@ -59,12 +64,17 @@ pub fn accompanying_bar(
             for _ in 0..100 {
                 let f1 = f(t1)?;
                 if f1.abs() <= 1e-13 * theta_c {
-                    return Ok(AbpTemperatures { upper: top, lower: t1 });
+                    return Ok(AbpTemperatures {
+                        upper: top,
+                        lower: t1,
+                    });
                 }
                 let t2 = t1 - f1 * (t1 - t0) / (f1 - f0);
                 (t0, f0, t1) = (t1, f1, t2);
             }
-            Err(Error::Geometry("accompanying bar: the lower bar's bottom temperature did not converge".into()))
+            Err(Error::Geometry(
+                "accompanying bar: the lower bar's bottom temperature did not converge".into(),
+            ))
         }
     }
 }
@@ -77,7 +87,16 @@ mod tests {
     #[test]
     fn frozen_bar_is_linear_and_symmetric() {
         let m = Material::default();
-        let t = accompanying_bar(&m, &m, 1e5, 1e6, 300.0, 7e-6, AbpProperties::Frozen([300.0, 300.0])).unwrap();
+        let t = accompanying_bar(
+            &m,
+            &m,
+            1e5,
+            1e6,
+            300.0,
+            7e-6,
+            AbpProperties::Frozen([300.0, 300.0]),
+        )
+        .unwrap();
         assert!(((t.upper - 300.0) + (t.lower - 300.0)).abs() < 1e-12);
         assert!(t.upper > 300.0);
     }
@@ -95,4 +114,3 @@ mod tests {
         assert!((f - t.upper).abs() < 1e-2 * (t.upper - 300.0));
     }
 }
-

@@ -9,7 +9,10 @@ use crate::geometry::Side;
 use crate::homogenize::abp::{AbpProperties, AbpTemperatures, accompanying_bar};
 use crate::material::Material;
 use crate::sample::case::{Case, MasterBody, Method};
-use crate::sample::micro::{InterfaceMeasures, LOWER, SampleGeometry, ThermalBc, UPPER, build_model, measure, sample_geometry, slave_body};
+use crate::sample::micro::{
+    InterfaceMeasures, LOWER, SampleGeometry, ThermalBc, UPPER, build_model, measure,
+    sample_geometry, slave_body,
+};
 use crate::solve::{Model, Newton, NonlinearProblem};
 use crate::{Error, Result};
 
@@ -93,18 +96,29 @@ impl<'a> PathSolver<'a> {
     /// Prepares the model of a case.
     pub fn new(case: &'a Case) -> Result<Self> {
         let materials = case.materials()?;
-        let su = case.surface.upper.build("surface.upper", case.sample.width, &case.base_dir)?;
-        let sl = case.surface.lower.build("surface.lower", case.sample.width, &case.base_dir)?;
+        let su = case
+            .surface
+            .upper
+            .build("surface.upper", case.sample.width, &case.base_dir)?;
+        let sl = case
+            .surface
+            .lower
+            .build("surface.lower", case.sample.width, &case.base_dir)?;
         let geometry = sample_geometry(case, su.as_ref(), sl.as_ref());
         let theta_c = case.load.contact_temperature;
         let coupling = match case.homogenization.method {
             Method::Coupled | Method::Linearized => Coupling::Coupled,
             Method::TwoPhase | Method::TwoPhaseSelfConsistent => Coupling::Mechanical,
         };
-        let bc = ThermalBc { master_face_temperature: theta_c, flux: case.load.flux };
+        let bc = ThermalBc {
+            master_face_temperature: theta_c,
+            flux: case.load.flux,
+        };
         let model = build_model(case, &geometry, (&materials.0, &materials.1), bc, coupling)?;
         let alpha = match case.contact.thermal {
-            crate::contact::ThermalContact::Constitutive { pressure_exponent, .. } => pressure_exponent,
+            crate::contact::ThermalContact::Constitutive {
+                pressure_exponent, ..
+            } => pressure_exponent,
             _ => 1.0,
         };
         Ok(PathSolver {
@@ -154,16 +168,36 @@ impl<'a> PathSolver<'a> {
         let p0 = self.last_pressure;
         let (abp, theta_s, sc_iters) = match method {
             Method::Coupled | Method::Linearized => {
-                let abp = accompanying_bar(&mu, &ml, pressure, flux, theta_c, h0, AbpProperties::Coupled)?;
-                let tm = if mface.0 == UPPER { abp.upper } else { abp.lower };
+                let abp = accompanying_bar(
+                    &mu,
+                    &ml,
+                    pressure,
+                    flux,
+                    theta_c,
+                    h0,
+                    AbpProperties::Coupled,
+                )?;
+                let tm = if mface.0 == UPPER {
+                    abp.upper
+                } else {
+                    abp.lower
+                };
                 self.model.prescribe_face(mface.0, 1, mface.1, 2, tm);
                 let start = if p0 == 0.0 { [0.0, 0.0] } else { [p0, 1.0] };
                 iterations += self.drive(start, [pressure, 1.0])?;
-                (abp, self.model.face_mean_temperature(sface.0, 1, sface.1), 0)
+                (
+                    abp,
+                    self.model.face_mean_temperature(sface.0, 1, sface.1),
+                    0,
+                )
             }
             Method::TwoPhase | Method::TwoPhaseSelfConsistent => {
                 let self_consistent = method == Method::TwoPhaseSelfConsistent;
-                let max_it = if self_consistent { case.homogenization.max_iterations } else { 1 };
+                let max_it = if self_consistent {
+                    case.homogenization.max_iterations
+                } else {
+                    1
+                };
                 let mut jump = 0.0;
                 let mut last = None;
                 let mut converged = !self_consistent;
@@ -172,7 +206,11 @@ impl<'a> PathSolver<'a> {
                     k += 1;
                     // Slave properties at θ̄ = θ̄c + ϑ̄c (first-order corrector), master at θ̄c.
                     let t_slave = theta_c + jump;
-                    let temps = if slave == UPPER { [t_slave, theta_c] } else { [theta_c, t_slave] };
+                    let temps = if slave == UPPER {
+                        [t_slave, theta_c]
+                    } else {
+                        [theta_c, t_slave]
+                    };
                     self.model.set_frozen_temperature(UPPER, temps[0]);
                     self.model.set_frozen_temperature(LOWER, temps[1]);
                     iterations += self.drive([p0, 0.0], [pressure, 0.0])?;
@@ -182,7 +220,9 @@ impl<'a> PathSolver<'a> {
                     last = Some((abp, ts));
                     let change = (new_jump - jump).abs();
                     jump = new_jump;
-                    if self_consistent && change <= case.homogenization.tolerance * jump.abs().max(1e-12 * theta_c) {
+                    if self_consistent
+                        && change <= case.homogenization.tolerance * jump.abs().max(1e-12 * theta_c)
+                    {
                         converged = true;
                         break;
                     }
@@ -207,13 +247,20 @@ impl<'a> PathSolver<'a> {
             _ => theta_s - theta_abp_slave,
         }
         .abs();
-        let interface = self.last_interface.take().map_or_else(|| measure(&self.model, self.alpha), Ok)?;
+        let interface = self
+            .last_interface
+            .take()
+            .map_or_else(|| measure(&self.model, self.alpha), Ok)?;
         Ok(PointResult {
             pressure,
             flux,
             contact_temperature: theta_c,
             jump,
-            conductance: if jump > 0.0 { flux / jump } else { f64::INFINITY },
+            conductance: if jump > 0.0 {
+                flux / jump
+            } else {
+                f64::INFINITY
+            },
             theta_top: theta_s,
             theta_abp_upper: abp.upper,
             theta_abp_lower: abp.lower,
@@ -228,7 +275,11 @@ impl<'a> PathSolver<'a> {
     /// The thermal phase on the frozen configuration (Sect. 3.1 (ii)) with
     /// conductivities frozen at `temps` (upper, lower); restores the
     /// mechanical phase afterwards. Returns the ABP, `θ(I)` and iterations.
-    fn thermal_phase(&mut self, pressure: f64, temps: [f64; 2]) -> Result<(AbpTemperatures, f64, usize)> {
+    fn thermal_phase(
+        &mut self,
+        pressure: f64,
+        temps: [f64; 2],
+    ) -> Result<(AbpTemperatures, f64, usize)> {
         let case = self.case;
         let (mface, sface) = (self.master_face(), self.slave_face());
         let abp = accompanying_bar(
@@ -244,7 +295,11 @@ impl<'a> PathSolver<'a> {
         self.model.set_coupling(Coupling::Thermal)?;
         self.model.freeze_body_conductivity(UPPER, temps[0]);
         self.model.freeze_body_conductivity(LOWER, temps[1]);
-        let tm = if mface.0 == UPPER { abp.upper } else { abp.lower };
+        let tm = if mface.0 == UPPER {
+            abp.upper
+        } else {
+            abp.lower
+        };
         self.model.prescribe_face(mface.0, 1, mface.1, 2, tm);
         let result = self.drive([pressure, 0.0], [pressure, 1.0]);
         let ts = self.model.face_mean_temperature(sface.0, 1, sface.1);

@@ -36,7 +36,11 @@ pub struct SampleSection {
 
 impl Default for SampleSection {
     fn default() -> Self {
-        SampleSection { width: 1.0e-5, height: 7.0e-6, lateral: LateralCondition::Periodic }
+        SampleSection {
+            width: 1.0e-5,
+            height: 7.0e-6,
+            lateral: LateralCondition::Periodic,
+        }
     }
 }
 
@@ -66,7 +70,12 @@ pub struct DiscretizationSection {
 
 impl Default for DiscretizationSection {
     fn default() -> Self {
-        DiscretizationSection { degree: 2, elements_upper: [32, 16], elements_lower: [27, 14], bulk_points: None }
+        DiscretizationSection {
+            degree: 2,
+            elements_upper: [32, 16],
+            elements_lower: [27, 14],
+            bulk_points: None,
+        }
     }
 }
 
@@ -84,7 +93,11 @@ pub struct LoadSection {
 
 impl Default for LoadSection {
     fn default() -> Self {
-        LoadSection { pressures: vec![1.0e3, 1.0e4, 1.0e5], flux: 1.0e6, contact_temperature: 293.15 }
+        LoadSection {
+            pressures: vec![1.0e3, 1.0e4, 1.0e5],
+            flux: 1.0e6,
+            contact_temperature: 293.15,
+        }
     }
 }
 
@@ -130,7 +143,12 @@ pub struct HomogenizationSection {
 
 impl Default for HomogenizationSection {
     fn default() -> Self {
-        HomogenizationSection { method: Method::default(), master: MasterBody::Lower, tolerance: 1e-6, max_iterations: 20 }
+        HomogenizationSection {
+            method: Method::default(),
+            master: MasterBody::Lower,
+            tolerance: 1e-6,
+            max_iterations: 20,
+        }
     }
 }
 
@@ -177,7 +195,15 @@ pub struct Case {
 }
 
 fn positive(key: &str, v: f64, unit: &str) -> Result<()> {
-    if v.is_finite() && v > 0.0 { Ok(()) } else { Err(Error::invalid(key, v, format!("a finite number > 0 ({unit})"))) }
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            key,
+            v,
+            format!("a finite number > 0 ({unit})"),
+        ))
+    }
 }
 
 impl Case {
@@ -191,7 +217,10 @@ impl Case {
 
     /// Reads and validates a case file.
     pub fn read(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::Io { path: path.display().to_string(), source: e })?;
+        let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
+            path: path.display().to_string(),
+            source: e,
+        })?;
         let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
         Case::from_toml(&text, &dir).map_err(|e| match e {
             Error::Config(m) => Error::Config(format!("{}: {m}", path.display())),
@@ -212,51 +241,95 @@ impl Case {
                 Some(v) => return Err(Error::invalid(key, v, "a table of material keys")),
                 None => {}
             }
-            let m: Material = toml::Value::Table(t).try_into().map_err(|e: toml::de::Error| Error::Config(format!("[{key}]: {e}")))?;
+            let m: Material = toml::Value::Table(t)
+                .try_into()
+                .map_err(|e: toml::de::Error| Error::Config(format!("[{key}]: {e}")))?;
             m.validate(key)?;
             Ok(m)
         };
-        Ok((resolve(upper, "material.upper")?, resolve(lower, "material.lower")?))
+        Ok((
+            resolve(upper, "material.upper")?,
+            resolve(lower, "material.lower")?,
+        ))
     }
 
     /// Checks every key's range; the error names the key.
     pub fn validate(&self) -> Result<()> {
         positive("sample.width", self.sample.width, "m")?;
         positive("sample.height", self.sample.height, "m")?;
-        self.surface.upper.validate("surface.upper", self.sample.width)?;
-        self.surface.lower.validate("surface.lower", self.sample.width)?;
+        self.surface
+            .upper
+            .validate("surface.upper", self.sample.width)?;
+        self.surface
+            .lower
+            .validate("surface.lower", self.sample.width)?;
         self.materials()?;
         let d = &self.discretization;
         if !(1..=5).contains(&d.degree) {
-            return Err(Error::invalid("discretization.degree", d.degree, "an integer in 1..=5"));
+            return Err(Error::invalid(
+                "discretization.degree",
+                d.degree,
+                "an integer in 1..=5",
+            ));
         }
-        for (key, e) in [("discretization.elements_upper", d.elements_upper), ("discretization.elements_lower", d.elements_lower)] {
+        for (key, e) in [
+            ("discretization.elements_upper", d.elements_upper),
+            ("discretization.elements_lower", d.elements_lower),
+        ] {
             if e.iter().any(|&n| !(1..=4096).contains(&n)) {
-                return Err(Error::invalid(key, format!("{e:?}"), "two element counts in 1..=4096"));
+                return Err(Error::invalid(
+                    key,
+                    format!("{e:?}"),
+                    "two element counts in 1..=4096",
+                ));
             }
         }
         if let Some(n) = d.bulk_points
             && !(1..=16).contains(&n)
         {
-            return Err(Error::invalid("discretization.bulk_points", n, "an integer in 1..=16"));
+            return Err(Error::invalid(
+                "discretization.bulk_points",
+                n,
+                "an integer in 1..=16",
+            ));
         }
         self.contact.validate()?;
         if self.load.pressures.is_empty() {
-            return Err(Error::invalid("load.pressures", "[]", "at least one pressure (Pa)"));
+            return Err(Error::invalid(
+                "load.pressures",
+                "[]",
+                "at least one pressure (Pa)",
+            ));
         }
         for p in &self.load.pressures {
             positive("load.pressures", *p, "Pa")?;
         }
         if !(self.load.flux.is_finite() && self.load.flux >= 0.0) {
-            return Err(Error::invalid("load.flux", self.load.flux, "a finite number >= 0 (W/m²)"));
+            return Err(Error::invalid(
+                "load.flux",
+                self.load.flux,
+                "a finite number >= 0 (W/m²)",
+            ));
         }
-        positive("load.contact_temperature", self.load.contact_temperature, "K")?;
+        positive(
+            "load.contact_temperature",
+            self.load.contact_temperature,
+            "K",
+        )?;
         let h = &self.homogenization;
         if !(h.tolerance.is_finite() && h.tolerance > 0.0 && h.tolerance < 1.0) {
-            return Err(Error::invalid("homogenization.tolerance", h.tolerance, "a number in (0, 1)"));
+            return Err(Error::invalid(
+                "homogenization.tolerance",
+                h.tolerance,
+                "a number in (0, 1)",
+            ));
         }
         if !(1..=1000).contains(&h.max_iterations) {
-            return Err(Error::invalid("homogenization.max_iterations", h.max_iterations, "an integer in 1..=1000"));
+            return Err(Error::invalid(
+                "homogenization.max_iterations",
+                h.max_iterations,
+                "an integer in 1..=1000",
+            ));
         }
         Ok(())
     }
@@ -286,7 +359,9 @@ kind = "flat"
 
     #[test]
     fn per_body_material_overrides() {
-        let t = format!("{MINIMAL}\n[material]\nyoungs_modulus = 2.0e6\n[material.lower]\npoisson_ratio = 0.2\n");
+        let t = format!(
+            "{MINIMAL}\n[material]\nyoungs_modulus = 2.0e6\n[material.lower]\npoisson_ratio = 0.2\n"
+        );
         let c = Case::from_toml(&t, Path::new(".")).unwrap();
         let (u, l) = c.materials().unwrap();
         assert_eq!(u.youngs_modulus, 2.0e6);
@@ -302,11 +377,16 @@ kind = "flat"
             ("[load]\npressures = [-1.0]\n", "load.pressures"),
             ("[discretization]\ndegree = 0\n", "discretization.degree"),
             ("[sample]\nwidth = -1.0\n", "sample.width"),
-            ("[contact]\nthermal = \"constitutive\"\nconductance_coefficient = -1.0\npressure_exponent = 1.0\n", "conductance_coefficient"),
+            (
+                "[contact]\nthermal = \"constitutive\"\nconductance_coefficient = -1.0\npressure_exponent = 1.0\n",
+                "conductance_coefficient",
+            ),
             ("[load]\nflux = nan\n", "load.flux"),
             ("[sample]\nwidht = 1.0\n", "widht"),
         ] {
-            let e = Case::from_toml(&format!("{MINIMAL}\n{extra}"), Path::new(".")).unwrap_err().to_string();
+            let e = Case::from_toml(&format!("{MINIMAL}\n{extra}"), Path::new("."))
+                .unwrap_err()
+                .to_string();
             assert!(e.contains(key), "{key}: {e}");
         }
     }

@@ -46,8 +46,20 @@ pub fn sample_geometry(case: &Case, upper: &dyn Surface, lower: &dyn Surface) ->
     let d = &case.discretization;
     let fu = |x: f64| upper.height(x);
     let fl = |x: f64| lower.height(x);
-    let fit_upper = fit_height_function(&fu, w, d.degree, d.elements_upper[0], FitMethod::Interpolation);
-    let fit_lower = fit_height_function(&fl, w, d.degree, d.elements_lower[0], FitMethod::Interpolation);
+    let fit_upper = fit_height_function(
+        &fu,
+        w,
+        d.degree,
+        d.elements_upper[0],
+        FitMethod::Interpolation,
+    );
+    let fit_lower = fit_height_function(
+        &fl,
+        w,
+        d.degree,
+        d.elements_lower[0],
+        FitMethod::Interpolation,
+    );
     // First touch: g0 = max (f2 − f1) over a dense sampling of the fitted curves,
     // refined by golden-section search around the best sample.
     let n = 64 * (d.elements_upper[0].max(d.elements_lower[0]) + 1);
@@ -67,7 +79,11 @@ pub fn sample_geometry(case: &Case, upper: &dyn Surface, lower: &dyn Surface) ->
         if gap(c) > gap(e) { b = e } else { a = c }
     }
     let g0 = gb.max(gap(0.5 * (a + b)));
-    SampleGeometry { fit_upper, fit_lower, g0 }
+    SampleGeometry {
+        fit_upper,
+        fit_lower,
+        g0,
+    }
 }
 
 /// Thermal boundary conditions of the micro-sample.
@@ -90,8 +106,22 @@ pub fn build_model(
     let w = case.sample.width;
     let h = case.sample.height;
     let d = &case.discretization;
-    let lower_patch = rough_block(&geo.fit_lower, 0.0, -h, RoughFace::Top, d.degree, d.elements_lower[1]);
-    let upper_patch = rough_block(&geo.fit_upper, geo.g0, h + geo.g0, RoughFace::Bottom, d.degree, d.elements_upper[1]);
+    let lower_patch = rough_block(
+        &geo.fit_lower,
+        0.0,
+        -h,
+        RoughFace::Top,
+        d.degree,
+        d.elements_lower[1],
+    );
+    let upper_patch = rough_block(
+        &geo.fit_upper,
+        geo.g0,
+        h + geo.g0,
+        RoughFace::Bottom,
+        d.degree,
+        d.elements_upper[1],
+    );
     let mut mb = ModelBuilder::new(2, Scales::new(w, materials.1));
     if let Some(n) = d.bulk_points {
         mb = mb.bulk_points(n);
@@ -161,7 +191,10 @@ pub struct InterfaceMeasures {
 
 /// Measures the interface of a solved model; `alpha` the exponent of `[pN^α]`.
 pub fn measure(model: &Model, alpha: f64) -> Result<InterfaceMeasures> {
-    let c = model.contact.as_ref().ok_or_else(|| Error::Geometry("the model has no contact interface".into()))?;
+    let c = model
+        .contact
+        .as_ref()
+        .ok_or_else(|| Error::Geometry("the model has no contact interface".into()))?;
     let s = model.scales;
     let ns = c.n_slave();
     // Contact fraction: the AL indicator pN^I = λ − εN g^I is the pressure inside
@@ -189,8 +222,14 @@ pub fn measure(model: &Model, alpha: f64) -> Result<InterfaceMeasures> {
         wsum += w;
     }
     let area: f64 = c.lumped_area.iter().sum();
-    let ppow: f64 = (0..ns).map(|i| c.lumped_area[i] * c.pressure(i).max(0.0).powf(alpha)).sum::<f64>() / area;
-    let max_jump = (0..ns).filter(|&i| c.is_active(i)).map(|i| c.weighted_jump(i).abs()).fold(0.0, f64::max);
+    let ppow: f64 = (0..ns)
+        .map(|i| c.lumped_area[i] * c.pressure(i).max(0.0).powf(alpha))
+        .sum::<f64>()
+        / area;
+    let max_jump = (0..ns)
+        .filter(|&i| c.is_active(i))
+        .map(|i| c.weighted_jump(i).abs())
+        .fold(0.0, f64::max);
     let pl = &model.platens()[0];
     Ok(InterfaceMeasures {
         contact_fraction: if total > 0.0 { contact / total } else { 0.0 },

@@ -32,7 +32,12 @@ impl DofMapBuilder {
     /// `n_nodes` nodes with `n_fields` components each, all free and untied.
     pub fn new(n_nodes: usize, n_fields: usize) -> Self {
         let n = n_nodes * n_fields;
-        DofMapBuilder { n_nodes, n_fields, fixed: vec![None; n], parent: (0..n).collect() }
+        DofMapBuilder {
+            n_nodes,
+            n_fields,
+            fixed: vec![None; n],
+            parent: (0..n).collect(),
+        }
     }
 
     /// Number of nodes.
@@ -47,7 +52,10 @@ impl DofMapBuilder {
 
     #[track_caller]
     fn slot(&self, node: usize, field: usize) -> usize {
-        assert!(node < self.n_nodes && field < self.n_fields, "dof ({node}, {field}) out of range");
+        assert!(
+            node < self.n_nodes && field < self.n_fields,
+            "dof ({node}, {field}) out of range"
+        );
         node * self.n_fields + field
     }
 
@@ -114,7 +122,12 @@ impl DofMapBuilder {
                 dofs.push(Dof::Free(eq_of_root[r]));
             }
         }
-        Ok(DofMap { n_nodes: self.n_nodes, n_fields: self.n_fields, dofs, eq_field })
+        Ok(DofMap {
+            n_nodes: self.n_nodes,
+            n_fields: self.n_fields,
+            dofs,
+            eq_field,
+        })
     }
 }
 

@@ -13,8 +13,8 @@ use std::sync::Arc;
 use nalgebra::Vector3;
 
 use crate::bulk::global::Assembly;
-use crate::contact::{ContactInterface, ContactSettings, Unknowns};
 use crate::bulk::local::{Coupling, ElementFields, element_residual_tangent};
+use crate::contact::{ContactInterface, ContactSettings, Unknowns};
 use crate::geometry::{ElementQuadrature, NurbsPatch, Side};
 use crate::material::Material;
 use crate::quadrature::default_bulk_points;
@@ -45,7 +45,12 @@ pub struct Body {
 impl Body {
     /// Global node numbers of the control points on a face.
     pub fn face_nodes(&self, dir: usize, side: Side) -> Vec<usize> {
-        self.patch.face(dir, side).1.into_iter().map(|i| i + self.node_offset).collect()
+        self.patch
+            .face(dir, side)
+            .1
+            .into_iter()
+            .map(|i| i + self.node_offset)
+            .collect()
     }
 }
 
@@ -146,7 +151,12 @@ impl ModelBuilder {
     }
 
     /// Adds a body (geometry in m, material in SI); returns its index.
-    pub fn add_body(&mut self, name: &str, patch: &NurbsPatch, material: &Material) -> Result<usize> {
+    pub fn add_body(
+        &mut self,
+        name: &str,
+        patch: &NurbsPatch,
+        material: &Material,
+    ) -> Result<usize> {
         material.validate(&format!("material.{name}"))?;
         if patch.param_dim() != self.dim {
             return Err(Error::Geometry(format!(
@@ -156,15 +166,26 @@ impl ModelBuilder {
             )));
         }
         let l = self.scales.length;
-        let pts: Vec<[f64; 3]> = patch.control_points().iter().map(|p| [p[0] / l, p[1] / l, p[2] / l]).collect();
+        let pts: Vec<[f64; 3]> = patch
+            .control_points()
+            .iter()
+            .map(|p| [p[0] / l, p[1] / l, p[2] / l])
+            .collect();
         let scaled = NurbsPatch::new(patch.knots().to_vec(), pts, patch.weights().to_vec())?;
         let node_offset = self.bodies.iter().map(|b| b.patch.n_control_points()).sum();
         let nq: Vec<usize> = scaled
             .knots()
             .iter()
-            .map(|k| self.bulk_points.unwrap_or_else(|| default_bulk_points(k.degree())))
+            .map(|k| {
+                self.bulk_points
+                    .unwrap_or_else(|| default_bulk_points(k.degree()))
+            })
             .collect();
-        let quadrature = scaled.elements().iter().map(|e| scaled.element_quadrature(e, &nq)).collect();
+        let quadrature = scaled
+            .elements()
+            .iter()
+            .map(|e| scaled.element_quadrature(e, &nq))
+            .collect();
         self.bodies.push(Body {
             name: name.to_string(),
             material: self.scales.material(material),
@@ -181,7 +202,11 @@ impl ModelBuilder {
     }
 
     fn scale_field(&self, field: usize, value: f64) -> f64 {
-        if field < self.dim { self.scales.len(value) } else { self.scales.temp(value) }
+        if field < self.dim {
+            self.scales.len(value)
+        } else {
+            self.scales.temp(value)
+        }
     }
 
     /// Prescribes component `field` (0..dim displacement in m, dim temperature in K) on a face.
@@ -222,7 +247,14 @@ impl ModelBuilder {
     /// Rigid platen on a face: its nodes share displacement component
     /// `field`, whose conjugate equation is the total force `pressure · |A|`
     /// pushing into the body (spec §5). Returns the platen index.
-    pub fn platen(&mut self, body: usize, dir: usize, side: Side, field: usize, pressure: f64) -> usize {
+    pub fn platen(
+        &mut self,
+        body: usize,
+        dir: usize,
+        side: Side,
+        field: usize,
+        pressure: f64,
+    ) -> usize {
         let nodes = self.bodies[body].face_nodes(dir, side);
         for w in nodes.windows(2) {
             self.ties.push(((w[0], field), (w[1], field)));
@@ -243,7 +275,12 @@ impl ModelBuilder {
     /// Uniform dead traction (Pa, per reference area) on a face.
     pub fn traction(&mut self, body: usize, dir: usize, side: Side, t: [f64; 3]) {
         let s = self.scales.stress;
-        self.loads.push((body, dir, side, FaceLoad::Traction([t[0] / s, t[1] / s, t[2] / s])));
+        self.loads.push((
+            body,
+            dir,
+            side,
+            FaceLoad::Traction([t[0] / s, t[1] / s, t[2] / s]),
+        ));
     }
 
     /// Uniform heat flux into the body (W/m², per reference area) on a face.
@@ -283,7 +320,10 @@ impl ModelBuilder {
         let mut f_therm = vec![0.0; n_nodes * nf];
         for (body, dir, side, load) in &self.loads {
             let b = &self.bodies[*body];
-            for fe in b.patch.face_quadrature(*dir, *side, b.patch.knots()[0].degree() + 2) {
+            for fe in b
+                .patch
+                .face_quadrature(*dir, *side, b.patch.knots()[0].degree() + 2)
+            {
                 for qp in &fe.points {
                     for (a, &c) in fe.conn.iter().enumerate() {
                         let node = b.node_offset + c;
@@ -293,7 +333,9 @@ impl ModelBuilder {
                                     f_mech[node * nf + i] += qp.weight * qp.r[a] * t[i];
                                 }
                             }
-                            FaceLoad::Flux(h) => f_therm[node * nf + self.dim] += qp.weight * qp.r[a] * h,
+                            FaceLoad::Flux(h) => {
+                                f_therm[node * nf + self.dim] += qp.weight * qp.r[a] * h
+                            }
                         }
                     }
                 }
@@ -384,15 +426,24 @@ impl Model {
         let c = self.contact.as_ref()?;
         let thermal_mult = c.settings.thermal_multipliers();
         Some(match self.coupling {
-            Coupling::Coupled => {
-                Unknowns { mechanical: true, thermal: thermal_mult, mechanical_terms: true, thermal_terms: true }
-            }
-            Coupling::Mechanical => {
-                Unknowns { mechanical: true, thermal: false, mechanical_terms: true, thermal_terms: false }
-            }
-            Coupling::Thermal => {
-                Unknowns { mechanical: false, thermal: thermal_mult, mechanical_terms: false, thermal_terms: true }
-            }
+            Coupling::Coupled => Unknowns {
+                mechanical: true,
+                thermal: thermal_mult,
+                mechanical_terms: true,
+                thermal_terms: true,
+            },
+            Coupling::Mechanical => Unknowns {
+                mechanical: true,
+                thermal: false,
+                mechanical_terms: true,
+                thermal_terms: false,
+            },
+            Coupling::Thermal => Unknowns {
+                mechanical: false,
+                thermal: thermal_mult,
+                mechanical_terms: false,
+                thermal_terms: true,
+            },
         })
     }
 
@@ -410,14 +461,21 @@ impl Model {
         for n in 0..n_nodes {
             match self.coupling {
                 Coupling::Mechanical => b.fix(n, self.dim, self.state[n * nf + self.dim]),
-                Coupling::Thermal => (0..self.dim).for_each(|f| b.fix(n, f, self.state[n * nf + f])),
+                Coupling::Thermal => {
+                    (0..self.dim).for_each(|f| b.fix(n, f, self.state[n * nf + f]))
+                }
                 Coupling::Coupled => {}
             }
         }
         self.dofs = b.build()?;
         self.n_bulk_eq = self.dofs.n_eq();
         let mut n_eq = self.n_bulk_eq;
-        let mut classes: Vec<usize> = self.dofs.eq_fields().iter().map(|&f| usize::from(f == self.dim)).collect();
+        let mut classes: Vec<usize> = self
+            .dofs
+            .eq_fields()
+            .iter()
+            .map(|&f| usize::from(f == self.dim))
+            .collect();
         self.mult_eq = (None, None);
         if let (Some(u), Some(c)) = (self.contact_unknowns(), self.contact.as_ref()) {
             let ns = c.n_slave();
@@ -461,7 +519,12 @@ impl Model {
 
     /// Reference position of a global node (scaled).
     fn node_position(&self, node: usize) -> [f64; 3] {
-        let b = self.bodies.iter().rev().find(|b| b.node_offset <= node).expect("node in a body");
+        let b = self
+            .bodies
+            .iter()
+            .rev()
+            .find(|b| b.node_offset <= node)
+            .expect("node in a body");
         b.patch.control_points()[node - b.node_offset]
     }
 
@@ -530,7 +593,9 @@ impl Model {
     /// point's multiplier so that the vertical position is determined from
     /// the first iteration (loading starts at first touch, spec §5).
     pub fn touch(&mut self, slave_body: usize, vertical: usize) -> Result<()> {
-        let Some(c) = self.contact.as_mut() else { return Ok(()) };
+        let Some(c) = self.contact.as_mut() else {
+            return Ok(());
+        };
         c.prepare(&self.state)?;
         let (imin, gmin) = (0..c.n_slave())
             .map(|i| (i, c.weighted_gap(i)))
@@ -571,8 +636,19 @@ impl Model {
 
     /// Changes a prescribed value on a face (SI; temperature for `field == dim`).
     /// The new value is reached along the next load path.
-    pub fn prescribe_face(&mut self, body: usize, dir: usize, side: Side, field: usize, value: f64) {
-        let v = if field < self.dim { self.scales.len(value) } else { self.scales.temp(value) };
+    pub fn prescribe_face(
+        &mut self,
+        body: usize,
+        dir: usize,
+        side: Side,
+        field: usize,
+        value: f64,
+    ) {
+        let v = if field < self.dim {
+            self.scales.len(value)
+        } else {
+            self.scales.temp(value)
+        };
         let nodes = self.bodies[body].face_nodes(dir, side);
         for f in self.fixes.iter_mut() {
             if f.1 == field && nodes.contains(&f.0) {
@@ -649,9 +725,17 @@ impl Model {
         let b = &self.bodies[body];
         let nf = self.dim + 1;
         let (mut a, mut s) = (0.0, 0.0);
-        for fe in b.patch.face_quadrature(dir, side, b.patch.knots()[0].degree() + 2) {
+        for fe in b
+            .patch
+            .face_quadrature(dir, side, b.patch.knots()[0].degree() + 2)
+        {
             for qp in &fe.points {
-                let th: f64 = fe.conn.iter().zip(&qp.r).map(|(&c, r)| r * self.state[(c + b.node_offset) * nf + self.dim]).sum();
+                let th: f64 = fe
+                    .conn
+                    .iter()
+                    .zip(&qp.r)
+                    .map(|(&c, r)| r * self.state[(c + b.node_offset) * nf + self.dim])
+                    .sum();
                 a += qp.weight;
                 s += qp.weight * th;
             }
@@ -675,8 +759,12 @@ impl Model {
     /// External loads at the current multipliers, gathered into equation space.
     fn external(&self) -> Vec<f64> {
         let mut f = vec![0.0; self.n_bulk_eq];
-        let v: Vec<f64> =
-            self.f_mech.iter().zip(&self.f_therm).map(|(m, t)| m * self.load[0] + t * self.load[1]).collect();
+        let v: Vec<f64> = self
+            .f_mech
+            .iter()
+            .zip(&self.f_therm)
+            .map(|(m, t)| m * self.load[0] + t * self.load[1])
+            .collect();
         self.dofs.gather(&v, &mut f);
         f.resize(self.eq_class.len(), 0.0);
         f
@@ -690,15 +778,25 @@ impl Model {
             let f = src_fn.as_ref().expect("sources present");
             let l = scales.length;
             let (b, r) = f(&[x[0] * l, x[1] * l, x[2] * l]);
-            (b * (l / scales.stress), r * (l * l / (scales.conductivity * scales.temperature)))
+            (
+                b * (l / scales.stress),
+                r * (l * l / (scales.conductivity * scales.temperature)),
+            )
         };
         let src: Option<&(dyn Fn(&[f64; 3]) -> (Vector3<f64>, f64) + Sync)> =
-            if self.sources.is_some() { Some(&scaled_src) } else { None };
+            if self.sources.is_some() {
+                Some(&scaled_src)
+            } else {
+                None
+            };
         let n_bulk = self.elements.len();
         let unknowns = self.contact_unknowns();
         let local = |e: usize, k: Option<&mut [f64]>, r: &mut [f64]| -> Result<()> {
             if e >= n_bulk {
-                let c = self.contact.as_ref().expect("contact elements come from an interface");
+                let c = self
+                    .contact
+                    .as_ref()
+                    .expect("contact elements come from an interface");
                 c.element(e - n_bulk, unknowns.expect("contact present"), k, r);
                 return Ok(());
             }
@@ -708,12 +806,22 @@ impl Model {
             let (mut u, mut th) = (Vec::new(), Vec::new());
             self.gather_nodes(body, &q.conn, &mut u, &mut th);
             let fields = ElementFields { u: &u, theta: &th };
-            element_residual_tangent(&body.material, q, self.dim, self.coupling, &fields, src, k, r);
+            element_residual_tangent(
+                &body.material,
+                q,
+                self.dim,
+                self.coupling,
+                &fields,
+                src,
+                k,
+                r,
+            );
             Ok(())
         };
         match values {
             Some(v) => {
-                self.assembly.assemble(v, residual, |e, k, r| local(e, Some(k), r))?;
+                self.assembly
+                    .assemble(v, residual, |e, k, r| local(e, Some(k), r))?;
                 if let Some(eq) = self.soft_pin_eq {
                     let sym = self.assembly.symbolic();
                     let (cp, ri) = (sym.col_ptr(), sym.row_idx());
@@ -722,7 +830,9 @@ impl Model {
                     }
                 }
             }
-            None => self.assembly.assemble_vector(residual, |e, r| local(e, None, r))?,
+            None => self
+                .assembly
+                .assemble_vector(residual, |e, r| local(e, None, r))?,
         }
         for (r, f) in residual.iter_mut().zip(self.external()) {
             *r -= f;
@@ -763,9 +873,14 @@ impl NonlinearProblem for Model {
     fn factorization(&self) -> (Factorization, Ordering) {
         let nd = || Ordering::Custom(nested_dissection(self.assembly.symbolic(), &self.eq_coords));
         let multipliers = self.mult_eq.0.is_some() || self.mult_eq.1.is_some();
-        let constant_k = self.bodies.iter().all(|b| b.material.conductivity_slope == 0.0);
+        let constant_k = self
+            .bodies
+            .iter()
+            .all(|b| b.material.conductivity_slope == 0.0);
         match self.coupling {
-            Coupling::Mechanical if !multipliers && self.soft_pin_eq.is_none() => (Factorization::Cholesky, nd()),
+            Coupling::Mechanical if !multipliers && self.soft_pin_eq.is_none() => {
+                (Factorization::Cholesky, nd())
+            }
             Coupling::Thermal if !multipliers && constant_k => (Factorization::Cholesky, nd()),
             _ => (Factorization::Lu, Ordering::Default),
         }
@@ -784,8 +899,12 @@ impl NonlinearProblem for Model {
     fn set_load(&mut self, load_factor: f64) {
         self.load_factor = load_factor;
         let (a, b) = self.path;
-        self.load = [a[0] + load_factor * (b[0] - a[0]), a[1] + load_factor * (b[1] - a[1])];
-        self.dofs.impose(&mut self.state, &self.initial, load_factor);
+        self.load = [
+            a[0] + load_factor * (b[0] - a[0]),
+            a[1] + load_factor * (b[1] - a[1]),
+        ];
+        self.dofs
+            .impose(&mut self.state, &self.initial, load_factor);
     }
 
     fn assemble(&mut self, values: Option<&mut [f64]>, residual: &mut [f64]) -> Result<()> {
@@ -801,15 +920,22 @@ impl NonlinearProblem for Model {
     }
 
     fn update(&mut self, dx: &[f64]) {
-        self.dofs.add_increment(&dx[..self.n_bulk_eq], &mut self.state);
+        self.dofs
+            .add_increment(&dx[..self.n_bulk_eq], &mut self.state);
         let (m0, m1) = self.mult_eq;
         if let Some(c) = self.contact.as_mut() {
             let ns = c.n_slave();
             if let Some(e) = m0 {
-                c.lambda_n.iter_mut().zip(&dx[e..e + ns]).for_each(|(l, d)| *l += d);
+                c.lambda_n
+                    .iter_mut()
+                    .zip(&dx[e..e + ns])
+                    .for_each(|(l, d)| *l += d);
             }
             if let Some(e) = m1 {
-                c.lambda_t.iter_mut().zip(&dx[e..e + ns]).for_each(|(l, d)| *l += d);
+                c.lambda_t
+                    .iter_mut()
+                    .zip(&dx[e..e + ns])
+                    .for_each(|(l, d)| *l += d);
             }
         }
     }

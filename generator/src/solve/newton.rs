@@ -131,7 +131,10 @@ pub struct SolveHistory {
 impl SolveHistory {
     /// Total Newton iterations over all converged steps.
     pub fn total_iterations(&self) -> usize {
-        self.steps.iter().map(|s| s.iterations.len().saturating_sub(1)).sum()
+        self.steps
+            .iter()
+            .map(|s| s.iterations.len().saturating_sub(1))
+            .sum()
     }
 }
 
@@ -148,7 +151,11 @@ pub struct Newton {
 impl Newton {
     /// A solver with the given settings.
     pub fn new(settings: NewtonSettings, stepping: LoadStepping) -> Self {
-        Newton { settings, stepping, solver: None }
+        Newton {
+            settings,
+            stepping,
+            solver: None,
+        }
     }
 
     fn field_norms<P: NonlinearProblem + ?Sized>(p: &P, r: &[f64]) -> Vec<f64> {
@@ -191,13 +198,21 @@ impl Newton {
             if norms.iter().any(|v| !v.is_finite()) {
                 return Err(fail(it, "non-finite residual".into()));
             }
-            history.push(IterationRecord { residuals: norms.clone() });
+            history.push(IterationRecord {
+                residuals: norms.clone(),
+            });
+            if std::env::var_os("TCGEN_TRACE").is_some() {
+                eprintln!("  step {step} λ={load_factor:.4} it {it}: {norms:?}");
+            }
             let reference = first.get_or_insert_with(|| {
                 let loads = p.load_norms();
                 norms.iter().zip(&loads).map(|(a, b)| a.max(*b)).collect()
             });
             let converged = norms.iter().zip(reference.iter()).all(|(v, r0)| {
-                *v <= self.settings.absolute_tolerance.max(self.settings.relative_tolerance * r0)
+                *v <= self
+                    .settings
+                    .absolute_tolerance
+                    .max(self.settings.relative_tolerance * r0)
             });
             if converged {
                 return Ok(history);
@@ -205,26 +220,47 @@ impl Newton {
             if it == self.settings.max_iterations {
                 break;
             }
-            if let Some((f, (v, r0))) = names
-                .iter()
-                .zip(norms.iter().zip(reference.iter()))
-                .find(|(_, (v, r0))| **v > self.settings.divergence_factor * r0.max(self.settings.absolute_tolerance))
+            if let Some((f, (v, r0))) =
+                names
+                    .iter()
+                    .zip(norms.iter().zip(reference.iter()))
+                    .find(|(_, (v, r0))| {
+                        **v > self.settings.divergence_factor
+                            * r0.max(self.settings.absolute_tolerance)
+                    })
             {
-                return Err(fail(it, format!("{f} residual grew to {v:.3e} from {r0:.3e}")));
+                return Err(fail(
+                    it,
+                    format!("{f} residual grew to {v:.3e} from {r0:.3e}"),
+                ));
             }
             let solver = &mut self.solver.as_mut().expect("solver set above").1;
-            solver.factorize(&values).map_err(|e| fail(it, e.to_string()))?;
+            solver
+                .factorize(&values)
+                .map_err(|e| fail(it, e.to_string()))?;
             r.iter_mut().for_each(|v| *v = -*v);
-            solver.solve_in_place(&mut r).map_err(|e| fail(it, e.to_string()))?;
+            solver
+                .solve_in_place(&mut r)
+                .map_err(|e| fail(it, e.to_string()))?;
             if r.iter().any(|v| !v.is_finite()) {
                 return Err(fail(it, "non-finite increment".into()));
             }
             p.update(&r);
             p.after_update();
         }
-        let last = history.last().map(|h| h.residuals.clone()).unwrap_or_default();
-        let detail: Vec<String> = names.iter().zip(&last).map(|(n, v)| format!("{n} {v:.3e}")).collect();
-        Err(fail(self.settings.max_iterations, format!("no convergence; residuals {}", detail.join(", "))))
+        let last = history
+            .last()
+            .map(|h| h.residuals.clone())
+            .unwrap_or_default();
+        let detail: Vec<String> = names
+            .iter()
+            .zip(&last)
+            .map(|(n, v)| format!("{n} {v:.3e}"))
+            .collect();
+        Err(fail(
+            self.settings.max_iterations,
+            format!("no convergence; residuals {}", detail.join(", ")),
+        ))
     }
 
     /// Drives the load factor from 0 to 1 with adaptive steps; on a failed
@@ -247,12 +283,19 @@ impl Newton {
         let mut saved = p.save();
         let mut step = 0;
         while lf < to - 1e-14 * span.abs().max(1.0) {
-            let target = if lf + dl > to - 1e-12 * span { to } else { lf + dl };
+            let target = if lf + dl > to - 1e-12 * span {
+                to
+            } else {
+                lf + dl
+            };
             p.set_load(target);
             match self.iterate(p, step, target) {
                 Ok(iters) => {
                     let easy = iters.len() <= self.stepping.easy_iterations;
-                    hist.steps.push(StepRecord { load_factor: target, iterations: iters });
+                    hist.steps.push(StepRecord {
+                        load_factor: target,
+                        iterations: iters,
+                    });
                     lf = target;
                     saved = p.save();
                     step += 1;
@@ -261,6 +304,9 @@ impl Newton {
                     }
                 }
                 Err(e) => {
+                    if std::env::var_os("TCGEN_TRACE").is_some() {
+                        eprintln!("  cut back from λ={target:.4}: {e}");
+                    }
                     hist.cutbacks += 1;
                     p.restore(&saved);
                     p.set_load(lf);

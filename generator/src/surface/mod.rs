@@ -73,23 +73,42 @@ impl SurfaceSpec {
     pub fn validate(&self, key: &str, width: f64) -> Result<()> {
         match self {
             SurfaceSpec::Flat | SurfaceSpec::Profile { .. } => Ok(()),
-            SurfaceSpec::Sinusoid { rms, wavelength, phase } => {
+            SurfaceSpec::Sinusoid {
+                rms,
+                wavelength,
+                phase,
+            } => {
                 if !(rms.is_finite() && *rms >= 0.0 && *rms < width) {
-                    return Err(Error::invalid(format!("{key}.rms"), rms, format!("a length in [0, width = {width}) m")));
+                    return Err(Error::invalid(
+                        format!("{key}.rms"),
+                        rms,
+                        format!("a length in [0, width = {width}) m"),
+                    ));
                 }
                 if !(wavelength.is_finite() && *wavelength > 0.0 && *wavelength <= width) {
-                    return Err(Error::invalid(format!("{key}.wavelength"), wavelength, format!("a length in (0, width = {width}] m")));
+                    return Err(Error::invalid(
+                        format!("{key}.wavelength"),
+                        wavelength,
+                        format!("a length in (0, width = {width}] m"),
+                    ));
                 }
                 let n = width / wavelength;
                 if (n - n.round()).abs() > 1e-9 * n {
                     return Err(Error::invalid(
                         format!("{key}.wavelength"),
                         wavelength,
-                        format!("a divisor of sample.width = {width} m (periodic samples), e.g. {}", width / n.round().max(1.0)),
+                        format!(
+                            "a divisor of sample.width = {width} m (periodic samples), e.g. {}",
+                            width / n.round().max(1.0)
+                        ),
                     ));
                 }
                 if !phase.is_finite() {
-                    return Err(Error::invalid(format!("{key}.phase"), phase, "a finite angle (rad)"));
+                    return Err(Error::invalid(
+                        format!("{key}.phase"),
+                        phase,
+                        "a finite angle (rad)",
+                    ));
                 }
                 Ok(())
             }
@@ -101,11 +120,21 @@ impl SurfaceSpec {
         self.validate(key, width)?;
         Ok(match self {
             SurfaceSpec::Flat => Box::new(Flat),
-            SurfaceSpec::Sinusoid { rms, wavelength, phase } => {
-                Box::new(Sinusoid { amplitude: rms * std::f64::consts::SQRT_2, wavelength: *wavelength, phase: *phase })
-            }
+            SurfaceSpec::Sinusoid {
+                rms,
+                wavelength,
+                phase,
+            } => Box::new(Sinusoid {
+                amplitude: rms * std::f64::consts::SQRT_2,
+                wavelength: *wavelength,
+                phase: *phase,
+            }),
             SurfaceSpec::Profile { file } => {
-                let path = if file.is_absolute() { file.clone() } else { base.join(file) };
+                let path = if file.is_absolute() {
+                    file.clone()
+                } else {
+                    base.join(file)
+                };
                 Box::new(Profile::read(&path, width, &format!("{key}.file"))?)
             }
         })
@@ -118,7 +147,13 @@ mod tests {
 
     #[test]
     fn sinusoid_rms_is_amplitude_over_sqrt2() {
-        let s = SurfaceSpec::Sinusoid { rms: 1e-6, wavelength: 1e-5, phase: 0.3 }.build("s", 1e-5, Path::new(".")).unwrap();
+        let s = SurfaceSpec::Sinusoid {
+            rms: 1e-6,
+            wavelength: 1e-5,
+            phase: 0.3,
+        }
+        .build("s", 1e-5, Path::new("."))
+        .unwrap();
         let n = 1000;
         let (mut m, mut q) = (0.0, 0.0);
         for i in 0..n {
@@ -131,7 +166,12 @@ mod tests {
 
     #[test]
     fn wavelength_must_divide_the_width() {
-        let e = SurfaceSpec::Sinusoid { rms: 1e-6, wavelength: 3e-6, phase: 0.0 }.validate("surface.upper", 1e-5);
+        let e = SurfaceSpec::Sinusoid {
+            rms: 1e-6,
+            wavelength: 3e-6,
+            phase: 0.0,
+        }
+        .validate("surface.upper", 1e-5);
         let msg = e.unwrap_err().to_string();
         assert!(msg.contains("surface.upper.wavelength"), "{msg}");
     }

@@ -20,27 +20,41 @@ impl Profile {
     /// Builds from uniformly spaced heights over `[0, width)`; `key` names the input for errors.
     pub fn from_samples(z: Vec<f64>, width: f64, key: &str) -> Result<Self> {
         if z.len() < 4 {
-            return Err(Error::invalid(key, z.len(), "at least 4 samples per period"));
+            return Err(Error::invalid(
+                key,
+                z.len(),
+                "at least 4 samples per period",
+            ));
         }
         if let Some(v) = z.iter().find(|v| !v.is_finite()) {
             return Err(Error::invalid(key, v, "finite heights"));
         }
         let mean = z.iter().sum::<f64>() / z.len() as f64;
         let z: Vec<f64> = z.iter().map(|v| v - mean).collect();
-        let range = z.iter().cloned().fold(f64::NEG_INFINITY, f64::max) - z.iter().cloned().fold(f64::INFINITY, f64::min);
+        let range = z.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
+            - z.iter().cloned().fold(f64::INFINITY, f64::min);
         if range >= width {
             return Err(Error::invalid(
                 key,
                 format!("peak-to-valley {range:e} m"),
-                format!("heights smaller than the sample width {width:e} m (are the units metres?)"),
+                format!(
+                    "heights smaller than the sample width {width:e} m (are the units metres?)"
+                ),
             ));
         }
-        Ok(Profile { z, width, removed_mean: mean })
+        Ok(Profile {
+            z,
+            width,
+            removed_mean: mean,
+        })
     }
 
     /// Reads a CSV file `x,z` (m); an optional header line is skipped.
     pub fn read(path: &Path, width: f64, key: &str) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::Io { path: path.display().to_string(), source: e })?;
+        let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
+            path: path.display().to_string(),
+            source: e,
+        })?;
         let mut xs = Vec::new();
         let mut zs = Vec::new();
         for (ln, line) in text.lines().enumerate() {
@@ -70,11 +84,19 @@ impl Profile {
         }
         let n = xs.len();
         if n < 4 {
-            return Err(Error::invalid(key, format!("{n} samples"), "at least 4 samples per period"));
+            return Err(Error::invalid(
+                key,
+                format!("{n} samples"),
+                "at least 4 samples per period",
+            ));
         }
         let dx = xs[1] - xs[0];
         if xs[0].abs() > 1e-9 * width || dx <= 0.0 {
-            return Err(Error::invalid(key, format!("x starts at {:e}, spacing {dx:e}", xs[0]), "x from 0 upward in m"));
+            return Err(Error::invalid(
+                key,
+                format!("x starts at {:e}, spacing {dx:e}", xs[0]),
+                "x from 0 upward in m",
+            ));
         }
         for (i, w) in xs.windows(2).enumerate() {
             if ((w[1] - w[0]) - dx).abs() > 1e-6 * dx {
@@ -107,7 +129,9 @@ impl Profile {
             return Err(Error::invalid(
                 key,
                 format!("x spans [0, {last:e}] m with spacing {dx:e}"),
-                format!("one period of the sample width {width:e} m: last x = width − spacing, or = width"),
+                format!(
+                    "one period of the sample width {width:e} m: last x = width − spacing, or = width"
+                ),
             ));
         }
         Profile::from_samples(z, width, key)
@@ -123,7 +147,10 @@ impl Surface for Profile {
         let at = |k: isize| self.z[k.rem_euclid(n as isize) as usize];
         let (p0, p1, p2, p3) = (at(i - 1), at(i), at(i + 1), at(i + 2));
         // Catmull–Rom: C1, interpolating, exact for quadratics on uniform samples.
-        0.5 * (2.0 * p1 + (-p0 + p2) * s + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * s * s + (-p0 + 3.0 * p1 - 3.0 * p2 + p3) * s * s * s)
+        0.5 * (2.0 * p1
+            + (-p0 + p2) * s
+            + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * s * s
+            + (-p0 + 3.0 * p1 - 3.0 * p2 + p3) * s * s * s)
     }
 }
 
@@ -132,7 +159,8 @@ mod tests {
     use super::*;
 
     fn write(name: &str, text: &str) -> std::path::PathBuf {
-        let p = std::env::temp_dir().join(format!("tcgen-profile-{}-{name}.csv", std::process::id()));
+        let p =
+            std::env::temp_dir().join(format!("tcgen-profile-{}-{name}.csv", std::process::id()));
         std::fs::write(&p, text).unwrap();
         p
     }
@@ -144,7 +172,10 @@ mod tests {
         let mut s = String::from("x,z\n");
         for i in 0..=n {
             let x = w * i as f64 / n as f64;
-            s += &format!("{x},{}\n", 1e-6 * (std::f64::consts::TAU * x / w).sin() + 3e-7);
+            s += &format!(
+                "{x},{}\n",
+                1e-6 * (std::f64::consts::TAU * x / w).sin() + 3e-7
+            );
         }
         let p = Profile::read(&write("ok", &s), w, "surface.lower.file").unwrap();
         assert!((p.removed_mean - 3e-7).abs() < 1e-15);
@@ -156,9 +187,19 @@ mod tests {
     #[test]
     fn rejects_non_periodic_and_misscaled_profiles() {
         let w = 1e-5;
-        let e = Profile::read(&write("np", "0,0\n2.5e-6,1e-7\n5e-6,0\n7.5e-6,-1e-7\n1e-5,5e-7\n"), w, "k").unwrap_err();
+        let e = Profile::read(
+            &write("np", "0,0\n2.5e-6,1e-7\n5e-6,0\n7.5e-6,-1e-7\n1e-5,5e-7\n"),
+            w,
+            "k",
+        )
+        .unwrap_err();
         assert!(e.to_string().contains("periodic"), "{e}");
-        let e = Profile::read(&write("mm", "0,0\n2.5e-6,1e-3\n5e-6,0\n7.5e-6,-1e-3\n"), w, "k").unwrap_err();
+        let e = Profile::read(
+            &write("mm", "0,0\n2.5e-6,1e-3\n5e-6,0\n7.5e-6,-1e-3\n"),
+            w,
+            "k",
+        )
+        .unwrap_err();
         assert!(e.to_string().contains("metres"), "{e}");
         let e = Profile::read(&write("sp", "0,0\n2e-6,0\n5e-6,0\n7.5e-6,0\n"), w, "k").unwrap_err();
         assert!(e.to_string().contains("uniform spacing"), "{e}");

@@ -3,13 +3,15 @@
 //! block (the accompanying bar problem, spec §8), the same bar fully coupled,
 //! and invariance under a change of the unit system (spec §2).
 
-use crate::analytical::compression::{bar_top_temperature, coupled_bar_top_temperature, platen_stretch};
+use crate::Result;
+use crate::analytical::compression::{
+    bar_top_temperature, coupled_bar_top_temperature, platen_stretch,
+};
 use crate::bulk::Coupling;
 use crate::geometry::{NurbsPatch, Side, shapes};
 use crate::material::Material;
 use crate::solve::{LoadStepping, Model, ModelBuilder, Newton, NewtonSettings, Scales};
 use crate::verify::{Case, Check};
-use crate::Result;
 
 /// A `w × h` block `[0, w] × [0, h]` of degree `p` with `nx × ny` elements.
 pub fn block_mesh(w: f64, h: f64, p: usize, nx: usize, ny: usize) -> NurbsPatch {
@@ -108,7 +110,12 @@ fn compression_case(lateral: Lateral) -> Result<Vec<Check>> {
         Lateral::Linear => "platen_compression_ln",
         Lateral::Periodic => "platen_compression_pr",
     };
-    let s = BarSetup { lateral, theta_bottom: 320.0, pressure: 1.5e5, ..BarSetup::default() };
+    let s = BarSetup {
+        lateral,
+        theta_bottom: 320.0,
+        pressure: 1.5e5,
+        ..BarSetup::default()
+    };
     let mut model = s.model(Coupling::Mechanical)?;
     newton().solve(&mut model)?;
     let lambda = platen_stretch(&s.material, s.pressure, s.theta_bottom)?;
@@ -122,8 +129,21 @@ fn compression_case(lateral: Lateral) -> Result<Vec<Check>> {
         dev = dev.max(model.displacement(i, 0).abs());
     }
     Ok(vec![
-        Check::relative(name, "platen displacement (rel)", computed, reference, 1e-10),
-        Check::with_error(name, "max deviation from homogeneous (rel)", dev / reference.abs(), 0.0, dev / reference.abs(), 1e-10),
+        Check::relative(
+            name,
+            "platen displacement (rel)",
+            computed,
+            reference,
+            1e-10,
+        ),
+        Check::with_error(
+            name,
+            "max deviation from homogeneous (rel)",
+            dev / reference.abs(),
+            0.0,
+            dev / reference.abs(),
+            1e-10,
+        ),
     ])
 }
 
@@ -141,10 +161,19 @@ fn frozen_bar_case() -> Result<Vec<Check>> {
     let mut checks = Vec::new();
     let base = BarSetup::default();
     let lambda = platen_stretch(&base.material, base.pressure, base.theta_bottom)?;
-    let reference = bar_top_temperature(&base.material, lambda, base.theta_bottom, base.flux, base.height)?;
+    let reference = bar_top_temperature(
+        &base.material,
+        lambda,
+        base.theta_bottom,
+        base.flux,
+        base.height,
+    )?;
     let mut es = Vec::new();
     for ny in [2, 4, 8, 16] {
-        let s = BarSetup { mesh: (2, 1, ny), ..BarSetup::default() };
+        let s = BarSetup {
+            mesh: (2, 1, ny),
+            ..BarSetup::default()
+        };
         let t = frozen_bar_top_temperature(&s)?;
         es.push((t - reference).abs());
         if ny == 16 {
@@ -186,9 +215,14 @@ pub fn coupled_bar_top_temperature_fe(s: &BarSetup) -> Result<f64> {
 fn coupled_bar_case() -> Result<Vec<Check>> {
     let mut m = Material::default();
     m.thermal_expansion = 1e-3; // make the stretch vary visibly with θ
-    let s = BarSetup { material: m, mesh: (2, 1, 16), ..BarSetup::default() };
+    let s = BarSetup {
+        material: m,
+        mesh: (2, 1, 16),
+        ..BarSetup::default()
+    };
     let t = coupled_bar_top_temperature_fe(&s)?;
-    let reference = coupled_bar_top_temperature(&s.material, s.pressure, s.theta_bottom, s.flux, s.height)?;
+    let reference =
+        coupled_bar_top_temperature(&s.material, s.pressure, s.theta_bottom, s.flux, s.height)?;
     let rise = reference - s.theta_bottom;
     Ok(vec![Check::with_error(
         "abp_conduction_coupled",
@@ -201,7 +235,10 @@ fn coupled_bar_case() -> Result<Vec<Check>> {
 }
 
 fn units_case() -> Result<Vec<Check>> {
-    let si = BarSetup { mesh: (2, 2, 4), ..BarSetup::default() };
+    let si = BarSetup {
+        mesh: (2, 2, 4),
+        ..BarSetup::default()
+    };
     // The same problem in mm, MPa, mW (temperatures in K).
     let mut m = si.material.clone();
     m.youngs_modulus *= 1e-6; // Pa → MPa
@@ -212,28 +249,66 @@ fn units_case() -> Result<Vec<Check>> {
         height: si.height * 1e3,
         pressure: si.pressure * 1e-6,
         flux: si.flux * 1e-3, // W/m² → mW/mm²
-        ..BarSetup { mesh: si.mesh, ..BarSetup::default() }
+        ..BarSetup {
+            mesh: si.mesh,
+            ..BarSetup::default()
+        }
     };
     let run = |s: &BarSetup| -> Result<(f64, f64)> {
         let mut model = s.model(Coupling::Coupled)?;
         newton().solve(&mut model)?;
-        Ok((model.face_mean_temperature(0, 1, Side::High), platen_displacement(&model)))
+        Ok((
+            model.face_mean_temperature(0, 1, Side::High),
+            platen_displacement(&model),
+        ))
     };
     let (t_si, d_si) = run(&si)?;
     let (t_mm, d_mm) = run(&mm)?;
     Ok(vec![
-        Check::relative("unit_invariance", "top temperature, mm-MPa-mW vs SI", t_mm, t_si, 1e-9),
-        Check::relative("unit_invariance", "platen displacement, mm vs m", d_mm * 1e-3, d_si, 1e-9),
+        Check::relative(
+            "unit_invariance",
+            "top temperature, mm-MPa-mW vs SI",
+            t_mm,
+            t_si,
+            1e-9,
+        ),
+        Check::relative(
+            "unit_invariance",
+            "platen displacement, mm vs m",
+            d_mm * 1e-3,
+            d_si,
+            1e-9,
+        ),
     ])
 }
 
 /// The bulk benchmark cases.
 pub fn cases() -> Vec<Case> {
     vec![
-        Case { name: "platen_compression_ln", description: "homogeneous compression, LN sides", run: || compression_case(Lateral::Linear) },
-        Case { name: "platen_compression_pr", description: "homogeneous compression, PR sides", run: || compression_case(Lateral::Periodic) },
-        Case { name: "abp_conduction_frozen", description: "ABP: k(θ) conduction, compressed block", run: frozen_bar_case },
-        Case { name: "abp_conduction_coupled", description: "coupled bar vs 1D integral", run: coupled_bar_case },
-        Case { name: "unit_invariance", description: "SI vs mm-MPa-mW", run: units_case },
+        Case {
+            name: "platen_compression_ln",
+            description: "homogeneous compression, LN sides",
+            run: || compression_case(Lateral::Linear),
+        },
+        Case {
+            name: "platen_compression_pr",
+            description: "homogeneous compression, PR sides",
+            run: || compression_case(Lateral::Periodic),
+        },
+        Case {
+            name: "abp_conduction_frozen",
+            description: "ABP: k(θ) conduction, compressed block",
+            run: frozen_bar_case,
+        },
+        Case {
+            name: "abp_conduction_coupled",
+            description: "coupled bar vs 1D integral",
+            run: coupled_bar_case,
+        },
+        Case {
+            name: "unit_invariance",
+            description: "SI vs mm-MPa-mW",
+            run: units_case,
+        },
     ]
 }

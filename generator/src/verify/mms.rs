@@ -16,7 +16,9 @@ use crate::analytical::manufactured::{ExactFields, annulus_fields, manufactured_
 use crate::bulk::Coupling;
 use crate::geometry::{KnotVector, NurbsPatch, shapes};
 use crate::material::Material;
-use crate::solve::{LoadStepping, Model, ModelBuilder, Newton, NewtonSettings, Scales, SolveHistory};
+use crate::solve::{
+    LoadStepping, Model, ModelBuilder, Newton, NewtonSettings, Scales, SolveHistory,
+};
 use crate::verify::{Case, Check, fitted_rate};
 use crate::{Error, Result};
 
@@ -147,7 +149,12 @@ pub fn errors(model: &Model, exact: &dyn Fn(&[f64; 3]) -> ExactFields) -> MmsErr
             }
         }
     }
-    MmsErrors { l2_u: l2u.sqrt(), h1_u: h1u.sqrt(), l2_t: l2t.sqrt(), h1_t: h1t.sqrt() }
+    MmsErrors {
+        l2_u: l2u.sqrt(),
+        h1_u: h1u.sqrt(),
+        l2_t: l2t.sqrt(),
+        h1_t: h1t.sqrt(),
+    }
 }
 
 /// Element counts per direction of the refinement study for degree `p`.
@@ -206,7 +213,11 @@ pub fn newton_order() -> Result<(Vec<f64>, Vec<f64>)> {
     let mesh = annulus_mesh(2, 8)?;
     let (_, hist) = solve_mms(MmsKind::Thermoelastic, &mesh)?;
     let step = &hist.steps[0];
-    let r: Vec<f64> = step.iterations.iter().map(|i| i.residuals.iter().map(|v| v * v).sum::<f64>().sqrt()).collect();
+    let r: Vec<f64> = step
+        .iterations
+        .iter()
+        .map(|i| i.residuals.iter().map(|v| v * v).sum::<f64>().sqrt())
+        .collect();
     let mut orders = Vec::new();
     for k in 1..r.len().saturating_sub(1) {
         // Only where the next residual is well above round-off.
@@ -223,7 +234,13 @@ fn newton_case() -> Result<Vec<Check>> {
     let best = orders.last().copied().unwrap_or(f64::NAN);
     let mut c = Check::with_error(
         "newton_quadratic",
-        &format!("order, residuals {}", r.iter().map(|v| format!("{v:.1e}")).collect::<Vec<_>>().join(" ")),
+        &format!(
+            "order, residuals {}",
+            r.iter()
+                .map(|v| format!("{v:.1e}"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        ),
         best,
         2.0,
         (2.0 - best).max(0.0),
@@ -236,12 +253,40 @@ fn newton_case() -> Result<Vec<Check>> {
 /// The manufactured-solution cases.
 pub fn cases() -> Vec<Case> {
     vec![
-        Case { name: "mms_conduction_p1", description: "k(θ) conduction, annulus, p=1", run: || convergence_study(MmsKind::Conduction, 1) },
-        Case { name: "mms_conduction_p2", description: "k(θ) conduction, annulus, p=2", run: || convergence_study(MmsKind::Conduction, 2) },
-        Case { name: "mms_conduction_p3", description: "k(θ) conduction, annulus, p=3", run: || convergence_study(MmsKind::Conduction, 3) },
-        Case { name: "mms_thermoelastic_p1", description: "finite thermoelasticity, annulus, p=1", run: || convergence_study(MmsKind::Thermoelastic, 1) },
-        Case { name: "mms_thermoelastic_p2", description: "finite thermoelasticity, annulus, p=2", run: || convergence_study(MmsKind::Thermoelastic, 2) },
-        Case { name: "mms_thermoelastic_p3", description: "finite thermoelasticity, annulus, p=3", run: || convergence_study(MmsKind::Thermoelastic, 3) },
-        Case { name: "newton_quadratic", description: "Newton order on finite strain", run: newton_case },
+        Case {
+            name: "mms_conduction_p1",
+            description: "k(θ) conduction, annulus, p=1",
+            run: || convergence_study(MmsKind::Conduction, 1),
+        },
+        Case {
+            name: "mms_conduction_p2",
+            description: "k(θ) conduction, annulus, p=2",
+            run: || convergence_study(MmsKind::Conduction, 2),
+        },
+        Case {
+            name: "mms_conduction_p3",
+            description: "k(θ) conduction, annulus, p=3",
+            run: || convergence_study(MmsKind::Conduction, 3),
+        },
+        Case {
+            name: "mms_thermoelastic_p1",
+            description: "finite thermoelasticity, annulus, p=1",
+            run: || convergence_study(MmsKind::Thermoelastic, 1),
+        },
+        Case {
+            name: "mms_thermoelastic_p2",
+            description: "finite thermoelasticity, annulus, p=2",
+            run: || convergence_study(MmsKind::Thermoelastic, 2),
+        },
+        Case {
+            name: "mms_thermoelastic_p3",
+            description: "finite thermoelasticity, annulus, p=3",
+            run: || convergence_study(MmsKind::Thermoelastic, 3),
+        },
+        Case {
+            name: "newton_quadratic",
+            description: "Newton order on finite strain",
+            run: newton_case,
+        },
     ]
 }

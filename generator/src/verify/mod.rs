@@ -36,19 +36,38 @@ pub struct Check {
 impl Check {
     /// A check of `computed` against `reference` with relative error
     /// `|c − r| / max(|r|, floor)`.
-    pub fn relative(case: &str, quantity: &str, computed: f64, reference: f64, tolerance: f64) -> Self {
+    pub fn relative(
+        case: &str,
+        quantity: &str,
+        computed: f64,
+        reference: f64,
+        tolerance: f64,
+    ) -> Self {
         let error = (computed - reference).abs() / reference.abs().max(1e-300);
         Check::with_error(case, quantity, computed, reference, error, tolerance)
     }
 
     /// A check of `computed` against `reference` with absolute error.
-    pub fn absolute(case: &str, quantity: &str, computed: f64, reference: f64, tolerance: f64) -> Self {
+    pub fn absolute(
+        case: &str,
+        quantity: &str,
+        computed: f64,
+        reference: f64,
+        tolerance: f64,
+    ) -> Self {
         let error = (computed - reference).abs();
         Check::with_error(case, quantity, computed, reference, error, tolerance)
     }
 
     /// A check with an error computed by the caller (`error <= tolerance` passes).
-    pub fn with_error(case: &str, quantity: &str, computed: f64, reference: f64, error: f64, tolerance: f64) -> Self {
+    pub fn with_error(
+        case: &str,
+        quantity: &str,
+        computed: f64,
+        reference: f64,
+        error: f64,
+        tolerance: f64,
+    ) -> Self {
         Check {
             case: case.into(),
             quantity: quantity.into(),
@@ -62,7 +81,14 @@ impl Check {
     }
 
     /// A convergence-rate check: observed `rate` against `expected` within `tolerance`.
-    pub fn rate(case: &str, quantity: &str, finest_error: f64, rate: f64, expected: f64, tolerance: f64) -> Self {
+    pub fn rate(
+        case: &str,
+        quantity: &str,
+        finest_error: f64,
+        rate: f64,
+        expected: f64,
+        tolerance: f64,
+    ) -> Self {
         let dev = (rate - expected).abs();
         Check {
             case: case.into(),
