@@ -75,7 +75,7 @@ pub struct ContactSettings {
     pub thermal_method: ThermalMethod,
     /// Gauss points per slave interface element (paper: 8).
     pub interface_points: usize,
-    /// Normal penalty factor: εN = factor · E / h (h the slave element size); default 10.
+    /// Normal penalty factor: εN = factor · E / h (h the slave element size); default 1.
     pub mechanical_penalty: Option<f64>,
 }
 

@@ -191,7 +191,7 @@ impl ContactInterface {
             -1.0
         };
         let n_s = slave_nodes.len();
-        let eps_n = settings.mechanical_penalty.unwrap_or(10.0) / h_min;
+        let eps_n = settings.mechanical_penalty.unwrap_or(1.0) / h_min;
         let eps_t = match settings.thermal {
             ThermalContact::Constraint {
                 penalty: Some(e), ..

@@ -141,9 +141,11 @@ pub fn build_model(
         LateralCondition::Periodic => {
             mb.periodic(lo, 0);
             mb.periodic(up, 0);
-            // The upper body may slide freely: regularize its rigid mode in the tangent only.
+            // The upper body's rigid lateral translation: pinned at one top
+            // control point; the pin's reaction is the net tangential contact
+            // force, zero for symmetric or neutral cells (reported).
             let top = mb.bodies()[up].face_nodes(1, Side::High)[0];
-            mb.soft_pin(top, 0);
+            mb.fix_node(top, 0, 0.0);
         }
     }
     // Thermal: θ̄c-projection (2.12); the nominal flux load is |h̄| (multiplier 1).
