@@ -1,3 +1,7 @@
 //! Closed-form reference solutions, tested on their own and used by the verification.
 pub mod compression;
+pub mod constriction;
+pub mod hertz;
 pub mod manufactured;
+pub mod size_effects;
+pub mod westergaard;
