@@ -209,7 +209,10 @@ impl Law {
         out.jump_std = n.std.max(0.0);
         let k = h_b / n.g;
         let dk = [-k * n.g_x * dx_dp / n.g, 0.0, -k * n.g_theta / n.g];
-        let computable = n.g > 0.0 && k.is_finite() && dk.iter().all(|x| x.is_finite());
+        let computable = n.g > 0.0 && k.is_finite();
+        if computable && !dk.iter().all(|x| x.is_finite()) {
+            return Err(EvalError::NonFiniteResult);
+        }
         if computable {
             out.flux = k * jump;
             out.d_flux_dp = jump * dk[0];

@@ -301,13 +301,6 @@ impl Law {
         let (wp, wh, wt) = self.weights(p, h, theta, options)?;
         let corners = self.corners(&wp, &wh, &wt);
         let jump = corners.value;
-        if !(corners.value.is_finite()
-            && corners.d_dx.is_finite()
-            && corners.d_dh.is_finite()
-            && corners.d_dtheta.is_finite())
-        {
-            return Err(EvalError::NonFiniteResult);
-        }
         let mut v = Value {
             flux: wh.q_eff,
             jump,
@@ -318,6 +311,16 @@ impl Law {
             extrapolated: [wp.extrapolated, wh.extrapolated, wt.extrapolated],
             ..Value::default()
         };
+        let jump_part = [
+            v.jump,
+            v.jump_std,
+            v.d_jump_dp,
+            v.d_jump_dh,
+            v.d_jump_dtheta,
+        ];
+        if !jump_part.iter().all(|x| x.is_finite()) {
+            return Err(EvalError::NonFiniteResult);
+        }
         let inv_jump = 1.0 / jump;
         let k = wh.q_eff * inv_jump;
         let d = [

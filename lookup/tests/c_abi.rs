@@ -3,28 +3,13 @@
 //! checks its output against the Rust API (struct sizes, status codes, and
 //! the values it printed, bit for bit).
 
+mod common;
+
+use common::library_dir;
 use lookup::Law;
 use lookup::ffi::{self, LookupFluxValue, LookupValue};
 use std::path::{Path, PathBuf};
 use std::process::Command;
-
-/// The directory holding `liblookup.a` / `liblookup.so` of this build: the
-/// `deps` directory of this test executable, where cargo writes the lib target
-/// on every build (`cargo test` does not refresh the copies in the profile
-/// directory `target/<profile>`, which is only the fallback).
-fn library_dir(file: &str) -> PathBuf {
-    let exe = std::env::current_exe().expect("test executable path");
-    let deps = exe.parent().expect("deps directory");
-    for dir in [deps, deps.parent().unwrap_or(deps)] {
-        if dir.join(file).is_file() {
-            return dir.to_path_buf();
-        }
-    }
-    panic!(
-        "{file} not found next to {} (cargo builds it with the lib target)",
-        exe.display()
-    );
-}
 
 fn compile(manifest: &Path, out: &Path, link: &[String]) -> PathBuf {
     let status = Command::new("cc")

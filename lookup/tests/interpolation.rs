@@ -280,6 +280,11 @@ fn extrapolation_policies_behave_as_documented() {
         );
         assert!(vals[2].extrapolated[i]);
     }
+    // A subnormal pressure overflows d/dp: an error, not an infinite derivative.
+    assert!(matches!(
+        law.eval(1e-320, mid[1], mid[2]),
+        Err(EvalError::NonFiniteResult)
+    ));
     // Zero pressure cannot be extrapolated linearly in ln p.
     assert!(matches!(
         law.eval(0.0, mid[1], mid[2]),

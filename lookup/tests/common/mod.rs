@@ -118,3 +118,21 @@ pub fn interior_query(law: &Law, rng: &mut Lcg, margin: f64) -> (f64, f64, f64) 
         pick(&a.contact_temperature, rng, false),
     )
 }
+
+/// The directory holding `file` (`liblookup.a`, `liblookup.so`) of this build:
+/// the `deps` directory of the test executable, where cargo writes the lib
+/// target on every build (`cargo test` does not refresh the copies in the
+/// profile directory `target/<profile>`, which is only the fallback).
+pub fn library_dir(file: &str) -> std::path::PathBuf {
+    let exe = std::env::current_exe().expect("test executable path");
+    let deps = exe.parent().expect("deps directory");
+    for dir in [deps, deps.parent().unwrap_or(deps)] {
+        if dir.join(file).is_file() {
+            return dir.to_path_buf();
+        }
+    }
+    panic!(
+        "{file} not found next to {} (cargo builds it with the lib target)",
+        exe.display()
+    );
+}
