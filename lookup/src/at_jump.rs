@@ -244,9 +244,8 @@ impl Law {
                 out.d_flux_dp = 0.0;
                 out.d_flux_djump = k_max;
                 out.d_flux_dtheta = 0.0;
-                Ok(out)
             }
-            _ if !computable => Err(EvalError::VanishingJump { jump: vanishing }),
+            _ if !computable => return Err(EvalError::VanishingJump { jump: vanishing }),
             _ => {
                 out.conductance = k;
                 [
@@ -254,8 +253,23 @@ impl Law {
                     out.d_conductance_djump,
                     out.d_conductance_dtheta,
                 ] = dk;
-                Ok(out)
             }
+        }
+        let all = [
+            out.flux,
+            out.jump_std,
+            out.conductance,
+            out.d_flux_dp,
+            out.d_flux_djump,
+            out.d_flux_dtheta,
+            out.d_conductance_dp,
+            out.d_conductance_djump,
+            out.d_conductance_dtheta,
+        ];
+        if all.iter().all(|x| x.is_finite()) {
+            Ok(out)
+        } else {
+            Err(EvalError::NonFiniteResult)
         }
     }
 }

@@ -238,7 +238,9 @@ pub enum EvalError {
         /// The interpolated jump [K].
         jump: f64,
     },
-    /// The result overflowed (extreme linear extrapolation).
+    /// The result overflowed (extreme linear extrapolation, subnormal pressure),
+    /// or, in [`crate::Law::eval_at_jump`], the jump does not depend on flux over
+    /// the interval that holds it, so the flux is not determined.
     NonFiniteResult,
 }
 

@@ -295,8 +295,9 @@ pub(crate) fn from_text(text: &str) -> Result<LawInfo, Error> {
             if ensemble_size.is_some() {
                 return Err(duplicate());
             }
+            // Canonical decimal only (no sign, no leading zero), as the writer writes it.
             match value.parse::<u32>() {
-                Ok(s) if s >= 1 => ensemble_size = Some(s),
+                Ok(s) if s >= 1 && s.to_string() == value => ensemble_size = Some(s),
                 _ => {
                     return Err(Error::metadata(
                         n,
@@ -432,6 +433,16 @@ mod tests {
         );
         let unit = text.replace("axis.pressure.unit = Pa", "axis.pressure.unit = MPa");
         assert!(from_text(&unit).unwrap_err().to_string().contains("MPa"));
+        for bad in ["08", "+8", "0", "-1", "8.0", " 8"] {
+            let t = text.replace("ensemble_size = 16", &format!("ensemble_size = {bad}"));
+            assert!(
+                from_text(&t)
+                    .unwrap_err()
+                    .to_string()
+                    .contains("ensemble_size"),
+                "{bad}"
+            );
+        }
         let det = text.replace("statistic = ensemble_mean", "statistic = deterministic");
         assert!(
             from_text(&det)

@@ -290,6 +290,10 @@ impl Law {
     /// Evaluates the law with explicit options. Errors: non-finite queries,
     /// `p < 0`, `h < 0`, `theta <= 0`, out of range under policy `error`, a
     /// vanishing jump without a conductance cap. Never allocates.
+    ///
+    /// The law is C1 along pressure and C0 along flux and temperature: at an
+    /// interior flux or temperature node the derivative along that axis is the
+    /// one of the interval above the node.
     #[inline]
     pub fn eval_with(
         &self,

@@ -419,6 +419,12 @@ fn eval_at_jump_inverts_eval_with_consistent_derivatives() {
     let b = law.eval(3e5, law.axes().flux[0], 330.0).unwrap();
     assert_eq!(w.flux, 0.0);
     assert!(close(w.conductance, b.conductance, 1e-12, 0.0) && w.extrapolated[1]);
+    // A jump so large that the flux overflows is an error, not an infinite flux
+    // (found by the `eval` fuzz target).
+    assert!(matches!(
+        law.eval_at_jump(3e5, 1e307, 330.0),
+        Err(EvalError::NonFiniteResult)
+    ));
     // Error policy: a jump beyond the flux range is out of range.
     let law = physical_law(Extrapolation::Error);
     assert!(matches!(

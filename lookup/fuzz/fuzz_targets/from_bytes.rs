@@ -8,6 +8,6 @@ use lookup::Law;
 
 fuzz_target!(|data: &[u8]| {
     if let Ok(law) = Law::from_bytes(data) {
-        common::exercise(&law, data);
+        common::exercise(&law);
     }
 });

@@ -17,6 +17,6 @@ fuzz_target!(|data: &[u8]| {
     let crc = crc32(&bytes[..body]);
     bytes[body..].copy_from_slice(&crc.to_le_bytes());
     if let Ok(law) = Law::from_bytes(&bytes) {
-        common::exercise(&law, &bytes);
+        common::exercise(&law);
     }
 });
