@@ -14,11 +14,11 @@ use crate::law::{EvalOptions, Law};
 /// The law evaluated at a given jump.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FluxValue {
-    /// Flux magnitude `|h̄|` [W/m²] producing the jump (`k̄c · jump`).
+    /// Flux magnitude `|h̄|` \[W/m²\] producing the jump (`k̄c · jump`).
     pub flux: f64,
-    /// Standard deviation of the jump over the ensemble at that flux [K].
+    /// Standard deviation of the jump over the ensemble at that flux \[K\].
     pub jump_std: f64,
-    /// Conductance `k̄c = |h̄| / jump` [W/(m²·K)].
+    /// Conductance `k̄c = |h̄| / jump` \[W/(m²·K)\].
     pub conductance: f64,
     /// ∂|h̄|/∂p̄N at fixed jump and θ̄c.
     pub d_flux_dp: f64,
@@ -53,8 +53,8 @@ impl Law {
         self.eval_at_jump_with(p, jump, theta, &self.options)
     }
 
-    /// Finds the flux magnitude that produces `jump` [K] at pressure `p` [Pa] and
-    /// contact temperature `theta` [K], and the conductance there.
+    /// Finds the flux magnitude that produces `jump` \[K\] at pressure `p` \[Pa\] and
+    /// contact temperature `theta` \[K\], and the conductance there.
     ///
     /// Outside the jump range covered by the flux axis, the flux policy decides:
     /// `error` fails with [`EvalError::JumpOutOfRange`]; `clamp` uses the

@@ -7,11 +7,11 @@ use std::path::PathBuf;
 /// One of the three axes of a law table, in storage order (pressure slowest).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Axis {
-    /// Macroscopic contact pressure `p̄N` [Pa], interpolated in `ln p̄N`.
+    /// Macroscopic contact pressure `p̄N` \[Pa\], interpolated in `ln p̄N`.
     Pressure = 0,
-    /// Magnitude of the macroscopic normal heat flux `|h̄|` [W/m²].
+    /// Magnitude of the macroscopic normal heat flux `|h̄|` \[W/m²\].
     Flux = 1,
-    /// Macroscopic contact temperature `θ̄c` [K] (the master side, paper Eq. (2.6)).
+    /// Macroscopic contact temperature `θ̄c` \[K\] (the master side, paper Eq. (2.6)).
     ContactTemperature = 2,
 }
 
@@ -235,7 +235,7 @@ pub enum EvalError {
     /// `|h̄| / jump` overflows, and no conductance cap is set
     /// ([`crate::EvalOptions::max_conductance`]).
     VanishingJump {
-        /// The interpolated jump [K].
+        /// The interpolated jump \[K\].
         jump: f64,
     },
     /// The result overflowed (extreme linear extrapolation, subnormal pressure),

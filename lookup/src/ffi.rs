@@ -372,8 +372,8 @@ pub unsafe extern "C" fn lookup_law_write(law: *const LookupLaw, path: *const c_
     })
 }
 
-/// Evaluates the law at pressure `p` [Pa], flux magnitude `h` [W/m²] and
-/// contact temperature `theta` [K]. On failure `*out` is zeroed.
+/// Evaluates the law at pressure `p` \[Pa\], flux magnitude `h` \[W/m²\] and
+/// contact temperature `theta` \[K\]. On failure `*out` is zeroed.
 ///
 /// # Safety
 /// `law` is NULL or a live handle; `out` is NULL or writable.
@@ -403,8 +403,8 @@ pub unsafe extern "C" fn lookup_law_eval(
     })
 }
 
-/// Finds the flux magnitude producing the temperature jump `jump` [K] at
-/// pressure `p` [Pa] and contact temperature `theta` [K], and the conductance
+/// Finds the flux magnitude producing the temperature jump `jump` \[K\] at
+/// pressure `p` \[Pa\] and contact temperature `theta` \[K\], and the conductance
 /// there with its derivatives at fixed jump. On failure `*out` is zeroed.
 ///
 /// # Safety
@@ -473,7 +473,7 @@ pub unsafe extern "C" fn lookup_law_set_extrapolation(
     })
 }
 
-/// Sets the conductance cap `k_max` [W/(m²·K)] (finite, > 0), or removes it when `k_max == 0`.
+/// Sets the conductance cap `k_max` \[W/(m²·K)\] (finite, > 0), or removes it when `k_max == 0`.
 ///
 /// # Safety
 /// `law` is NULL or a live handle not used concurrently.

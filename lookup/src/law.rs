@@ -12,11 +12,11 @@ use crate::interp::{
 /// The three axes of a table, each strictly increasing, in SI units.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Axes {
-    /// Contact pressure `p̄N` [Pa], all > 0.
+    /// Contact pressure `p̄N` \[Pa\], all > 0.
     pub pressure: Vec<f64>,
-    /// Flux magnitude `|h̄|` [W/m²], all > 0.
+    /// Flux magnitude `|h̄|` \[W/m²\], all > 0.
     pub flux: Vec<f64>,
-    /// Contact temperature `θ̄c` [K], all > 0.
+    /// Contact temperature `θ̄c` \[K\], all > 0.
     pub contact_temperature: Vec<f64>,
 }
 
@@ -46,7 +46,7 @@ impl Axes {
 pub struct EvalOptions {
     /// Extrapolation policy of each axis (the file's by default).
     pub extrapolation: ExtrapolationPolicy,
-    /// Cap on the conductance [W/(m²·K)]. `None` (default): a vanishing jump is
+    /// Cap on the conductance \[W/(m²·K)\]. `None` (default): a vanishing jump is
     /// an error ([`EvalError::VanishingJump`]). `Some(k_max)`: the conductance is
     /// `min(|h̄|/jump, k_max)`, `k_max` also where the jump is ≤ 0; where the cap
     /// is active its derivatives are 0 and [`Value::conductance_capped`] is set.
@@ -56,20 +56,20 @@ pub struct EvalOptions {
 /// The law evaluated at one point `(p̄N, |h̄|, θ̄c)`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Value {
-    /// Flux magnitude `|h̄|` at which the conductance is evaluated [W/m²]
+    /// Flux magnitude `|h̄|` at which the conductance is evaluated \[W/m²\]
     /// (the query, or the table bound when the flux is clamped).
     pub flux: f64,
-    /// Temperature jump `θ̄ − θ̄c` [K], paper Eq. (2.6): the tabulated statistic, interpolated.
+    /// Temperature jump `θ̄ − θ̄c` \[K\], paper Eq. (2.6): the tabulated statistic, interpolated.
     pub jump: f64,
-    /// Standard deviation of the jump over the ensemble [K], interpolated (≥ 0).
+    /// Standard deviation of the jump over the ensemble \[K\], interpolated (≥ 0).
     pub jump_std: f64,
-    /// ∂ jump / ∂ p̄N [K/Pa].
+    /// ∂ jump / ∂ p̄N \[K/Pa\].
     pub d_jump_dp: f64,
-    /// ∂ jump / ∂ |h̄| [K·m²/W].
+    /// ∂ jump / ∂ |h̄| \[K·m²/W\].
     pub d_jump_dh: f64,
-    /// ∂ jump / ∂ θ̄c [–].
+    /// ∂ jump / ∂ θ̄c \[–\].
     pub d_jump_dtheta: f64,
-    /// Contact conductance `k̄c = |h̄| / jump` [W/(m²·K)], Eq. (2.7).
+    /// Contact conductance `k̄c = |h̄| / jump` \[W/(m²·K)\], Eq. (2.7).
     pub conductance: f64,
     /// ∂ k̄c / ∂ p̄N.
     pub d_conductance_dp: f64,
@@ -155,7 +155,7 @@ fn check_values(field: &str, v: &[f64], expected_len: usize) -> Result<(), Error
 }
 
 impl Law {
-    /// Builds a law from its grid: `jump_mean` and `jump_std` [K] in row-major
+    /// Builds a law from its grid: `jump_mean` and `jump_std` \[K\] in row-major
     /// order `[pressure][flux][contact_temperature]` (contact temperature
     /// fastest), `n_p · n_h · n_θ` entries each, finite and ≥ 0.
     ///
@@ -233,12 +233,12 @@ impl Law {
         &self.axes
     }
 
-    /// The tabulated jump statistic [K], row-major `[pressure][flux][contact_temperature]`.
+    /// The tabulated jump statistic \[K\], row-major `[pressure][flux][contact_temperature]`.
     pub fn jump_mean(&self) -> &[f64] {
         &self.jump_mean
     }
 
-    /// The tabulated standard deviation of the jump [K], same layout.
+    /// The tabulated standard deviation of the jump \[K\], same layout.
     pub fn jump_std(&self) -> &[f64] {
         &self.jump_std
     }
@@ -280,8 +280,8 @@ impl Law {
         })
     }
 
-    /// Evaluates the law at contact pressure `p` [Pa], flux magnitude `h` [W/m²]
-    /// and contact temperature `theta` [K] with the law's options.
+    /// Evaluates the law at contact pressure `p` \[Pa\], flux magnitude `h` \[W/m²\]
+    /// and contact temperature `theta` \[K\] with the law's options.
     #[inline]
     pub fn eval(&self, p: f64, h: f64, theta: f64) -> Result<Value, EvalError> {
         self.eval_with(p, h, theta, &self.options)
