@@ -547,7 +547,7 @@ impl Model {
         if coupling == Coupling::Thermal
             && let Some(c) = self.contact.as_mut()
         {
-            c.prepare(&self.state)?;
+            c.prepare(&self.state, (false, false))?;
             c.freeze();
         }
         if coupling != Coupling::Thermal
@@ -582,7 +582,7 @@ impl Model {
         let Some(c) = self.contact.as_mut() else {
             return Ok(());
         };
-        c.prepare(&self.state)?;
+        c.prepare(&self.state, (false, false))?;
         let (imin, gmin) = (0..c.n_slave())
             .map(|i| (i, c.weighted_gap(i)))
             .fold((0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
@@ -595,7 +595,7 @@ impl Model {
             }
         }
         self.initial = self.state.clone();
-        c.prepare(&self.state)?;
+        c.prepare(&self.state, (false, false))?;
         c.lambda_n[imin] = c.lambda_n[imin].max(1e-9 * c.eps_n);
         Ok(())
     }
@@ -863,8 +863,11 @@ impl NonlinearProblem for Model {
     }
 
     fn prepare(&mut self) -> Result<()> {
-        if let Some(c) = self.contact.as_mut() {
-            c.prepare(&self.state)?;
+        let needs = self
+            .contact_unknowns()
+            .map(|u| (u.mechanical_terms, u.thermal_terms));
+        if let (Some(c), Some(needs)) = (self.contact.as_mut(), needs) {
+            c.prepare(&self.state, needs)?;
             if c.update_band() {
                 self.rebuild_assembly();
             }
