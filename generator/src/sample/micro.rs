@@ -164,7 +164,7 @@ pub fn build_model(
     };
     mb.contact(cs, cm, &case.contact, period)?;
     let mut model = mb.build(coupling)?;
-    model.touch(cs.0, 1)?;
+    model.touch(UPPER, 1)?;
     Ok(model)
 }
 
