@@ -607,8 +607,13 @@ impl Model {
         }
         self.initial = self.state.clone();
         c.prepare(&self.state, (false, false))?;
-        let g = c.weighted_gap(imin).max(0.0);
-        c.lambda_n[imin] = c.lambda_n[imin].max(c.eps_n * (2.0 * g + 1e-9));
+        // Seed every point that touches (conforming surfaces touch everywhere).
+        for i in 0..c.n_slave() {
+            let g = c.weighted_gap(i);
+            if i == imin || g < 1e-10 {
+                c.lambda_n[i] = c.lambda_n[i].max(c.eps_n * (2.0 * g.max(0.0) + 1e-9));
+            }
+        }
         Ok(())
     }
 

@@ -128,7 +128,7 @@ impl Sample {
     /// Solves the path; a failed point is an error naming the sample.
     pub fn solve(&self) -> Result<Vec<PointResult>> {
         let case = self.case()?;
-        let out = solve_case(&case, |_| {})?;
+        let out = solve_case(&case, None, |_| {})?;
         for r in &out {
             if !r.converged {
                 return Err(crate::Error::Config(format!(
