@@ -46,6 +46,12 @@ fn platen_compression_matches_closed_form() {
     run("platen_compression");
 }
 
+/// Homogeneous compression under a uniform dead traction matches the closed form.
+#[test]
+fn traction_compression_matches_closed_form() {
+    run("traction_compression");
+}
+
 /// The accompanying bar problem (frozen and coupled) matches its closed forms.
 #[test]
 fn accompanying_bar_matches_closed_form() {
