@@ -685,7 +685,10 @@ impl ContactInterface {
             .zip(&sp.basis)
             .map(|(&c, n)| n * self.pressure(c).max(0.0))
             .sum();
-        if pn <= 0.0 {
+        // In contact where a slave control point of the element is active
+        // (for positive pressures the same as `pn > 0`; it also holds at
+        // zero pressure, e.g. a frozen active set).
+        if !sp.conn.iter().any(|&c| self.is_active(c)) {
             return;
         }
         let c = match self.settings.thermal {

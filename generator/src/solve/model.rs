@@ -918,7 +918,15 @@ impl NonlinearProblem for Model {
         for (v, &c) in self.external().iter().zip(&self.eq_class) {
             s[c] += v * v;
         }
-        s.iter().map(|x| x.sqrt()).collect()
+        let mut s: Vec<f64> = s.iter().map(|x| x.sqrt()).collect();
+        // The multiplier equations carry no external load; their residual
+        // `A^I g^I` (`A^I γθ^I`) is a nodal force (heat input) over εN (εθ),
+        // which sets their reference magnitude.
+        if let Some(c) = &self.contact {
+            s[2] = s[0] / c.eps_n;
+            s[3] = s[1] / c.eps_t;
+        }
+        s
     }
 
     fn update(&mut self, dx: &[f64]) {
