@@ -3,21 +3,9 @@
 //! and few sample sizes by default; `TCGEN_LONG_TESTS=1` runs more heights,
 //! scales and finer meshes (see `verify::homogenization`).
 
-use tcgen::verify::{Case, catalogue, format_table};
-
 fn run(name: &str) {
-    let cases: Vec<Case> = catalogue().into_iter().filter(|c| c.name == name).collect();
-    assert_eq!(cases.len(), 1, "no case named {name}");
-    for c in cases {
-        let checks = (c.run)().unwrap_or_else(|e| panic!("{}: {e}", c.name));
-        assert!(!checks.is_empty(), "{} produced no checks", c.name);
-        let failed: Vec<_> = checks.iter().filter(|c| !c.pass).cloned().collect();
-        assert!(
-            failed.is_empty(),
-            "{} failed:\n{}",
-            c.name,
-            format_table(&failed)
-        );
+    if let Err(report) = tcgen::verify::run_selected(|n| n == name) {
+        panic!("{name}:\n{report}");
     }
 }
 
