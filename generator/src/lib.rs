@@ -28,6 +28,9 @@
 //! Units: SI in every file and API (m, Pa, K, W/m², W/(m·K)). Inside the solver
 //! quantities are scaled to O(1) by [`solve::Scales`] (spec §2).
 #![warn(missing_docs)]
+// Tensor and element code indexes several arrays with one index; loops over
+// index ranges say that more plainly than zipped iterators.
+#![allow(clippy::needless_range_loop)]
 
 pub mod analytical;
 pub mod basis;

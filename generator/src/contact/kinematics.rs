@@ -188,20 +188,73 @@ pub struct Derivatives {
     pub hess: Vec<f64>,
 }
 
-/// Gap and jump with exact first and second derivatives at the local state `z`.
-pub fn differentiate(g: &PointGeometry, z: &[f64]) -> (Derivatives, Derivatives) {
-    let zv = nalgebra::DVector::from_column_slice(z);
-    let pack = |(v, gr, h): (f64, nalgebra::DVector<f64>, nalgebra::DMatrix<f64>)| Derivatives {
+/// Which kinematic quantity to differentiate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Quantity {
+    /// The normal gap `gN`.
+    Gap,
+    /// The temperature jump `ϑc`.
+    Jump,
+}
+
+fn evaluate<D: DualNum<Primitive = f64>>(g: &PointGeometry, z: &[D], q: Quantity) -> D {
+    match q {
+        Quantity::Gap => normal_gap(g, z),
+        Quantity::Jump => temperature_jump(g, z),
+    }
+}
+
+fn pack(v: f64, grad: &[f64], hess_col_major: &[f64]) -> Derivatives {
+    // The Hessian is symmetric: column-major equals row-major.
+    Derivatives {
         value: v,
-        grad: gr.as_slice().to_vec(),
-        hess: h.transpose().as_slice().to_vec(),
-    };
-    let gap = num_dual::hessian(|x: nalgebra::DVector<_>| normal_gap(g, x.as_slice()), &zv);
-    let jump = num_dual::hessian(
-        |x: nalgebra::DVector<_>| temperature_jump(g, x.as_slice()),
+        grad: grad.to_vec(),
+        hess: hess_col_major.to_vec(),
+    }
+}
+
+fn hessian_fixed<const N: usize>(g: &PointGeometry, z: &[f64], q: Quantity) -> Derivatives {
+    let zv = nalgebra::SVector::<f64, N>::from_column_slice(z);
+    let (v, gr, h) = num_dual::hessian(
+        |x: nalgebra::SVector<_, N>| evaluate(g, x.as_slice(), q),
         &zv,
     );
-    (pack(gap), pack(jump))
+    pack(v, gr.as_slice(), h.as_slice())
+}
+
+fn hessian_dynamic(g: &PointGeometry, z: &[f64], q: Quantity) -> Derivatives {
+    let zv = nalgebra::DVector::from_column_slice(z);
+    let (v, gr, h) = num_dual::hessian(|x: nalgebra::DVector<_>| evaluate(g, x.as_slice(), q), &zv);
+    pack(v, gr.as_slice(), h.as_slice())
+}
+
+/// Value, exact gradient and Hessian of a kinematic quantity at the local
+/// state `z` (stack-allocated dual numbers for degrees 1–4).
+pub fn differentiate_one(g: &PointGeometry, z: &[f64], q: Quantity) -> Derivatives {
+    match z.len() {
+        12 => hessian_fixed::<12>(g, z, q),
+        18 => hessian_fixed::<18>(g, z, q),
+        24 => hessian_fixed::<24>(g, z, q),
+        30 => hessian_fixed::<30>(g, z, q),
+        _ => hessian_dynamic(g, z, q),
+    }
+}
+
+/// The value only (no derivatives; empty gradient and Hessian).
+pub fn value_only(g: &PointGeometry, z: &[f64], q: Quantity) -> Derivatives {
+    Derivatives {
+        value: evaluate(g, z, q),
+        grad: Vec::new(),
+        hess: Vec::new(),
+    }
+}
+
+/// Gap and jump with exact first and second derivatives at the local state `z`.
+pub fn differentiate(g: &PointGeometry, z: &[f64]) -> (Derivatives, Derivatives) {
+    (
+        differentiate_one(g, z, Quantity::Gap),
+        differentiate_one(g, z, Quantity::Jump),
+    )
 }
 
 #[cfg(test)]
@@ -242,6 +295,29 @@ mod tests {
             eta += d;
         }
         g.master_ders = basis_ders(&kv, kv.find_span(eta), eta, 2);
+    }
+
+    #[test]
+    fn fixed_and_dynamic_sizes_agree() {
+        let (mut g, z) = geometry(0.5);
+        converge(&mut g, &z);
+        for q in [Quantity::Gap, Quantity::Jump] {
+            let a = hessian_fixed::<18>(&g, &z, q);
+            let b = hessian_dynamic(&g, &z, q);
+            assert_eq!(a.value, b.value);
+            assert!(
+                a.grad
+                    .iter()
+                    .zip(&b.grad)
+                    .all(|(x, y)| (x - y).abs() <= 1e-15 * (1.0 + x.abs()))
+            );
+            assert!(
+                a.hess
+                    .iter()
+                    .zip(&b.hess)
+                    .all(|(x, y)| (x - y).abs() <= 1e-14 * (1.0 + x.abs()))
+            );
+        }
     }
 
     #[test]

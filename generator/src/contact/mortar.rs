@@ -22,7 +22,9 @@
 use std::collections::BTreeSet;
 
 use crate::basis::bspline::basis_ders;
-use crate::contact::kinematics::{Derivatives, PointGeometry, differentiate};
+use crate::contact::kinematics::{
+    Derivatives, PointGeometry, Quantity, differentiate_one, value_only,
+};
 use crate::contact::projection::{Projection, project};
 use crate::contact::{ContactSettings, ThermalContact, ThermalEnforcement, ThermalMethod};
 use crate::geometry::{NurbsPatch, Side};
@@ -234,8 +236,9 @@ impl ContactInterface {
     }
 
     /// Projects every integration point in the current configuration and
-    /// differentiates gap and jump. `state` holds `dim + 1 = 3` components per node.
-    pub fn prepare(&mut self, state: &[f64]) -> Result<()> {
+    /// evaluates gap and jump, differentiated where `derivatives` = (gap, jump)
+    /// asks. `state` holds `dim + 1 = 3` components per node.
+    pub fn prepare(&mut self, state: &[f64], derivatives: (bool, bool)) -> Result<()> {
         let nf = 3;
         let cur = |nodes: &[usize], refx: &[[f64; 3]]| -> Vec<[f64; 3]> {
             nodes
@@ -254,6 +257,7 @@ impl ContactInterface {
         let kv = &curve.knots()[0];
         let p = kv.degree();
         let previous = std::mem::take(&mut self.state);
+        let samples = crate::contact::projection::MasterSamples::new(&curve);
         let mut out = Vec::with_capacity(self.points.len());
         for (i, sp) in self.points.iter().enumerate() {
             let mut xs = [0.0; 2];
@@ -262,7 +266,7 @@ impl ContactInterface {
                 xs[1] += sp.basis[a] * slave_cur[c][1];
             }
             let guess = previous.get(i).map(|s| s.projection.eta);
-            let pr = project(&curve, xs, guess, self.period)?;
+            let pr = project(&curve, xs, guess, self.period, &samples)?;
             let span = kv.find_span(pr.eta);
             let ders = basis_ders(kv, span, pr.eta, p);
             let master: Vec<usize> = (span - p..=span).collect();
@@ -294,7 +298,17 @@ impl ContactInterface {
                 let n = self.master_nodes[j];
                 z.extend_from_slice(&state[n * nf..n * nf + 3]);
             }
-            let (gap, jump) = differentiate(&geo, &z);
+            let eval = |want: bool, q: Quantity| {
+                if want {
+                    differentiate_one(&geo, &z, q)
+                } else {
+                    value_only(&geo, &z, q)
+                }
+            };
+            let (gap, jump) = (
+                eval(derivatives.0, Quantity::Gap),
+                eval(derivatives.1, Quantity::Jump),
+            );
             out.push(PointState {
                 master,
                 projection: pr,
@@ -477,15 +491,19 @@ impl ContactInterface {
             gs += w * st.gap.value;
             gts += w * st.jump.value;
             let m = pd.len();
-            for (a, ia) in map.iter().enumerate() {
-                let Some(ia) = *ia else { continue };
-                g[ia] += w * st.gap.grad[a];
-                gt[ia] += w * st.jump.grad[a];
-                if want_h {
-                    for (b, ib) in map.iter().enumerate() {
-                        let Some(ib) = *ib else { continue };
-                        h[ia * nd + ib] += w * st.gap.hess[a * m + b];
-                        ht[ia * nd + ib] += w * st.jump.hess[a * m + b];
+            // Only the derivatives the current phase asked for are present.
+            for (d, gv, hv) in [(&st.gap, &mut g, &mut h), (&st.jump, &mut gt, &mut ht)] {
+                if d.grad.is_empty() {
+                    continue;
+                }
+                for (a, ia) in map.iter().enumerate() {
+                    let Some(ia) = *ia else { continue };
+                    gv[ia] += w * d.grad[a];
+                    if want_h {
+                        for (b, ib) in map.iter().enumerate() {
+                            let Some(ib) = *ib else { continue };
+                            hv[ia * nd + ib] += w * d.hess[a * m + b];
+                        }
                     }
                 }
             }

@@ -58,6 +58,28 @@ fn newton(curve: &NurbsPatch, x: [f64; 2], eta0: f64, lo: f64, hi: f64) -> (f64,
     (eta, clamped, d2)
 }
 
+/// Points of the master curve at 4 parameters per element: the candidates
+/// for the starting guesses of the projections (computed once per evaluation).
+pub struct MasterSamples {
+    samples: Vec<(f64, [f64; 3])>,
+}
+
+impl MasterSamples {
+    /// Samples `curve`.
+    pub fn new(curve: &NurbsPatch) -> Self {
+        let kv = &curve.knots()[0];
+        let mut samples = Vec::new();
+        for s in kv.element_spans() {
+            let (a, b) = (kv.knots()[s], kv.knots()[s + 1]);
+            for t in 0..4 {
+                let eta = a + (b - a) * (t as f64 + 0.5) / 4.0;
+                samples.push((eta, curve.point(&[eta])));
+            }
+        }
+        MasterSamples { samples }
+    }
+}
+
 /// Projects `x` onto `curve` (a 2D NURBS curve in the current configuration).
 /// `guess`: the parameter found at the previous evaluation, if any.
 /// `period`: the sample width when the master repeats periodically in x.
@@ -66,6 +88,7 @@ pub fn project(
     x: [f64; 2],
     guess: Option<f64>,
     period: Option<f64>,
+    samples: &MasterSamples,
 ) -> Result<Projection> {
     let kv = &curve.knots()[0];
     let (lo, hi) = (kv.first(), kv.last());
@@ -77,15 +100,6 @@ pub fn project(
             vec![k * w, (k - 1.0) * w, (k + 1.0) * w]
         }
     };
-    // Candidate starting points: samples of the curve (4 per element), and the guess.
-    let spans = kv.element_spans();
-    let mut samples = Vec::with_capacity(4 * spans.len() + 1);
-    for &s in &spans {
-        let (a, b) = (kv.knots()[s], kv.knots()[s + 1]);
-        for t in 0..4 {
-            samples.push(a + (b - a) * (t as f64 + 0.5) / 4.0);
-        }
-    }
     let mut best: Option<Projection> = None;
     for &shift in &shifts {
         let xs = [x[0] - shift, x[1]];
@@ -94,15 +108,19 @@ pub fn project(
             starts.push(g);
         }
         // The nearest samples.
-        let mut d: Vec<(f64, f64)> = samples
-            .iter()
-            .map(|&t| {
-                let c = curve.point(&[t]);
-                ((xs[0] - c[0]).powi(2) + (xs[1] - c[1]).powi(2), t)
-            })
-            .collect();
-        d.sort_by(|a, b| a.0.total_cmp(&b.0));
-        starts.extend(d.iter().take(2).map(|v| v.1));
+        // The two nearest samples.
+        let (mut b1, mut b2) = ((f64::INFINITY, lo), (f64::INFINITY, lo));
+        for &(t, c) in &samples.samples {
+            let d = (xs[0] - c[0]).powi(2) + (xs[1] - c[1]).powi(2);
+            if d < b1.0 {
+                b2 = b1;
+                b1 = (d, t);
+            } else if d < b2.0 {
+                b2 = (d, t);
+            }
+        }
+        starts.push(b1.1);
+        starts.push(b2.1);
         for s in starts {
             let (eta, clamped, d2) = newton(curve, xs, s, lo, hi);
             // With a periodic master an end is not an edge: the neighbouring image covers it.
@@ -137,7 +155,7 @@ mod tests {
     fn projects_onto_a_circle_exactly() {
         let c = shapes::circular_arc([0.0, 0.0, 0.0], 2.0, 0.0, std::f64::consts::FRAC_PI_2);
         let x = [3.0 * 0.6, 3.0 * 0.8];
-        let p = project(&c, x, None, None).unwrap();
+        let p = project(&c, x, None, None, &MasterSamples::new(&c)).unwrap();
         assert!((p.distance - 1.0).abs() < 1e-12);
         let y = c.point(&[p.eta]);
         assert!((y[0] - 1.2).abs() < 1e-12 && (y[1] - 1.6).abs() < 1e-12);
@@ -148,9 +166,10 @@ mod tests {
         let line = shapes::rectangle(0.0, 1.0, 0.0, 1.0)
             .face(1, crate::geometry::Side::Low)
             .0;
-        let p = project(&line, [1.3, 0.2], None, None).unwrap();
+        let s = MasterSamples::new(&line);
+        let p = project(&line, [1.3, 0.2], None, None, &s).unwrap();
         assert!(p.clamped && (p.eta - 1.0).abs() < 1e-15);
-        let q = project(&line, [1.3, 0.2], None, Some(1.0)).unwrap();
+        let q = project(&line, [1.3, 0.2], None, Some(1.0), &s).unwrap();
         assert!(!q.clamped && (q.shift - 1.0).abs() < 1e-15 && (q.eta - 0.3).abs() < 1e-12);
         assert!((q.distance - 0.2).abs() < 1e-12);
     }

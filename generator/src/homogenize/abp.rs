@@ -103,8 +103,10 @@ mod tests {
 
     #[test]
     fn coupled_lower_bar_reaches_the_contact_temperature() {
-        let mut m = Material::default();
-        m.thermal_expansion = 1e-3;
+        let m = Material {
+            thermal_expansion: 1e-3,
+            ..Material::default()
+        };
         let t = accompanying_bar(&m, &m, 1e5, 1e6, 300.0, 7e-6, AbpProperties::Coupled).unwrap();
         let back = coupled_bar_top_temperature(&m, 1e5, t.lower, 1e6, 7e-6).unwrap();
         assert!((back - 300.0).abs() < 1e-9);

@@ -213,7 +213,10 @@ impl<'a> PathSolver<'a> {
                     };
                     self.model.set_frozen_temperature(UPPER, temps[0]);
                     self.model.set_frozen_temperature(LOWER, temps[1]);
-                    iterations += self.drive([p0, 0.0], [pressure, 0.0])?;
+                    // The first iteration moves along the pressure path; the
+                    // next ones only change the slave's temperature at `p`.
+                    let from = if k == 1 { p0 } else { pressure };
+                    iterations += self.drive([from, 0.0], [pressure, 0.0])?;
                     let (abp, ts, it) = self.thermal_phase(pressure, temps)?;
                     iterations += it;
                     let new_jump = ts - if slave == UPPER { abp.upper } else { abp.lower };

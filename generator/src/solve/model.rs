@@ -77,7 +77,6 @@ pub struct ModelBuilder {
     bulk_points: Option<usize>,
     platens: Vec<Platen>,
     contact: Option<ContactInterface>,
-    soft_pin: Option<(usize, usize)>,
 }
 
 /// A rigid platen: the face's nodes share the displacement component `field`.
@@ -108,7 +107,6 @@ impl ModelBuilder {
             bulk_points: None,
             platens: Vec::new(),
             contact: None,
-            soft_pin: None,
         }
     }
 
@@ -130,13 +128,6 @@ impl ModelBuilder {
             period.map(|w| self.scales.len(w)),
         )?);
         Ok(())
-    }
-
-    /// Regularizes the tangent (not the residual) of component `field` of
-    /// `node`: makes a free rigid mode (a body that may slide freely under PR
-    /// conditions) well-posed without imposing anything on the solution.
-    pub fn soft_pin(&mut self, node: usize, field: usize) {
-        self.soft_pin = Some((node, field));
     }
 
     /// The scales in use.
@@ -362,8 +353,6 @@ impl ModelBuilder {
             load_factor: 0.0,
             coupling,
             contact: self.contact,
-            soft_pin: self.soft_pin,
-            soft_pin_eq: None,
             n_bulk_eq: 0,
             mult_eq: (None, None),
             pattern_version: 0,
@@ -402,8 +391,6 @@ pub struct Model {
     load: [f64; 2],
     /// The contact interface, if any.
     pub contact: Option<ContactInterface>,
-    soft_pin: Option<(usize, usize)>,
-    soft_pin_eq: Option<usize>,
     n_bulk_eq: usize,
     mult_eq: (Option<usize>, Option<usize>),
     pattern_version: u64,
@@ -491,7 +478,6 @@ impl Model {
             }
         }
         self.eq_class = classes;
-        self.soft_pin_eq = self.soft_pin.and_then(|(n, f)| self.dofs.eq(n, f));
         let mut coords = vec![[f64::NAN; 3]; n_eq];
         for body in &self.bodies {
             for (i, x) in body.patch.control_points().iter().enumerate() {
@@ -561,7 +547,7 @@ impl Model {
         if coupling == Coupling::Thermal
             && let Some(c) = self.contact.as_mut()
         {
-            c.prepare(&self.state)?;
+            c.prepare(&self.state, (false, false))?;
             c.freeze();
         }
         if coupling != Coupling::Thermal
@@ -596,7 +582,7 @@ impl Model {
         let Some(c) = self.contact.as_mut() else {
             return Ok(());
         };
-        c.prepare(&self.state)?;
+        c.prepare(&self.state, (false, false))?;
         let (imin, gmin) = (0..c.n_slave())
             .map(|i| (i, c.weighted_gap(i)))
             .fold((0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
@@ -609,7 +595,7 @@ impl Model {
             }
         }
         self.initial = self.state.clone();
-        c.prepare(&self.state)?;
+        c.prepare(&self.state, (false, false))?;
         c.lambda_n[imin] = c.lambda_n[imin].max(1e-9 * c.eps_n);
         Ok(())
     }
@@ -783,12 +769,11 @@ impl Model {
                 r * (l * l / (scales.conductivity * scales.temperature)),
             )
         };
-        let src: Option<&(dyn Fn(&[f64; 3]) -> (Vector3<f64>, f64) + Sync)> =
-            if self.sources.is_some() {
-                Some(&scaled_src)
-            } else {
-                None
-            };
+        let src: Option<crate::bulk::local::Sources<'_>> = if self.sources.is_some() {
+            Some(&scaled_src)
+        } else {
+            None
+        };
         let n_bulk = self.elements.len();
         let unknowns = self.contact_unknowns();
         let local = |e: usize, k: Option<&mut [f64]>, r: &mut [f64]| -> Result<()> {
@@ -822,13 +807,6 @@ impl Model {
             Some(v) => {
                 self.assembly
                     .assemble(v, residual, |e, k, r| local(e, Some(k), r))?;
-                if let Some(eq) = self.soft_pin_eq {
-                    let sym = self.assembly.symbolic();
-                    let (cp, ri) = (sym.col_ptr(), sym.row_idx());
-                    if let Some(pos) = (cp[eq]..cp[eq + 1]).find(|&p| ri[p] == eq) {
-                        v[pos] += 1e-8;
-                    }
-                }
             }
             None => self
                 .assembly
@@ -878,17 +856,18 @@ impl NonlinearProblem for Model {
             .iter()
             .all(|b| b.material.conductivity_slope == 0.0);
         match self.coupling {
-            Coupling::Mechanical if !multipliers && self.soft_pin_eq.is_none() => {
-                (Factorization::Cholesky, nd())
-            }
+            Coupling::Mechanical if !multipliers => (Factorization::Cholesky, nd()),
             Coupling::Thermal if !multipliers && constant_k => (Factorization::Cholesky, nd()),
             _ => (Factorization::Lu, Ordering::Default),
         }
     }
 
     fn prepare(&mut self) -> Result<()> {
-        if let Some(c) = self.contact.as_mut() {
-            c.prepare(&self.state)?;
+        let needs = self
+            .contact_unknowns()
+            .map(|u| (u.mechanical_terms, u.thermal_terms));
+        if let (Some(c), Some(needs)) = (self.contact.as_mut(), needs) {
+            c.prepare(&self.state, needs)?;
             if c.update_band() {
                 self.rebuild_assembly();
             }
@@ -912,7 +891,7 @@ impl NonlinearProblem for Model {
     }
 
     fn load_norms(&self) -> Vec<f64> {
-        let mut s = vec![0.0; 4];
+        let mut s = [0.0; 4];
         for (v, &c) in self.external().iter().zip(&self.eq_class) {
             s[c] += v * v;
         }

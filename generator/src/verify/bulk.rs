@@ -213,8 +213,11 @@ pub fn coupled_bar_top_temperature_fe(s: &BarSetup) -> Result<f64> {
 }
 
 fn coupled_bar_case() -> Result<Vec<Check>> {
-    let mut m = Material::default();
-    m.thermal_expansion = 1e-3; // make the stretch vary visibly with θ
+    // A visible thermal expansion, so the stretch varies with θ.
+    let m = Material {
+        thermal_expansion: 1e-3,
+        ..Material::default()
+    };
     let s = BarSetup {
         material: m,
         mesh: (2, 1, 16),
