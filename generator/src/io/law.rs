@@ -87,9 +87,7 @@ pub fn law_from_table(t: &Table, source: &str) -> Result<Law> {
         std.push(if ns > 1 { s.std } else { 0.0 });
     }
     let statistic = if ns > 1 {
-        Statistic::EnsembleMean {
-            samples: ns as u32,
-        }
+        Statistic::EnsembleMean { samples: ns as u32 }
     } else {
         Statistic::Deterministic
     };
@@ -98,7 +96,10 @@ pub fn law_from_table(t: &Table, source: &str) -> Result<Law> {
         ("generator".into(), provenance::generator()),
         ("git_revision".into(), one_line(&i.git_revision)),
         ("source".into(), one_line(source)),
-        ("table_schema".into(), format!("{SCHEMA_NAME} {SCHEMA_VERSION}")),
+        (
+            "table_schema".into(),
+            format!("{SCHEMA_NAME} {SCHEMA_VERSION}"),
+        ),
         ("table_generator".into(), one_line(&i.generator)),
         ("table_created".into(), one_line(&i.created)),
         ("config_sha256".into(), i.config_sha256.clone()),
@@ -179,8 +180,13 @@ mod tests {
 
     #[test]
     fn masked_points_and_shards_are_refused() {
-        let e = law_from_table(&synthetic(None), "t.h5").unwrap_err().to_string();
-        assert!(e.contains("1 masked point") && e.contains("sample 1: failed"), "{e}");
+        let e = law_from_table(&synthetic(None), "t.h5")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("1 masked point") && e.contains("sample 1: failed"),
+            "{e}"
+        );
         let s = synthetic(Some(crate::sweep::Shard::new(0, 2).unwrap()));
         let e = law_from_table(&s, "s.h5").unwrap_err().to_string();
         assert!(e.contains("merge the shards"), "{e}");

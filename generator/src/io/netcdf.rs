@@ -110,10 +110,7 @@ impl Writer {
 }
 
 fn masked<T: Copy>(values: &[Option<T>], f: impl Fn(T) -> f64) -> Vec<f64> {
-    values
-        .iter()
-        .map(|v| v.map_or(FILL_DOUBLE, &f))
-        .collect()
+    values.iter().map(|v| v.map_or(FILL_DOUBLE, &f)).collect()
 }
 
 /// The netCDF-4 bytes of a table (deterministic: the same table gives the same bytes).
@@ -133,69 +130,217 @@ pub fn table_to_bytes(t: &Table) -> Result<Vec<u8>> {
     let dq = dim(&mut w, "quantile", QUANTILES.len())?;
 
     // Coordinates.
-    w.doubles("pressure", &[dp], "Pa", "macroscopic contact pressure p_N (positive in compression)", &t.pressure, false)?;
-    w.doubles("flux", &[dh], "W m-2", "magnitude |h| of the macroscopic heat flux, from body 1 (upper) to body 2 (lower)", &t.flux, false)?;
-    w.doubles("contact_temperature", &[dt], "K", "macroscopic contact temperature theta_c (master side)", &t.contact_temperature, false)?;
+    w.doubles(
+        "pressure",
+        &[dp],
+        "Pa",
+        "macroscopic contact pressure p_N (positive in compression)",
+        &t.pressure,
+        false,
+    )?;
+    w.doubles(
+        "flux",
+        &[dh],
+        "W m-2",
+        "magnitude |h| of the macroscopic heat flux, from body 1 (upper) to body 2 (lower)",
+        &t.flux,
+        false,
+    )?;
+    w.doubles(
+        "contact_temperature",
+        &[dt],
+        "K",
+        "macroscopic contact temperature theta_c (master side)",
+        &t.contact_temperature,
+        false,
+    )?;
     let samples: Vec<i32> = (0..ns as i32).collect();
-    w.ints("sample", &[ds], "1", "surface sample index s of the ensemble (random stream of schemas/table.md)", &samples, false)?;
-    w.doubles("quantile", &[dq], "1", "quantile level over the samples", &QUANTILES, false)?;
+    w.ints(
+        "sample",
+        &[ds],
+        "1",
+        "surface sample index s of the ensemble (random stream of schemas/table.md)",
+        &samples,
+        false,
+    )?;
+    w.doubles(
+        "quantile",
+        &[dq],
+        "1",
+        "quantile level over the samples",
+        &QUANTILES,
+        false,
+    )?;
 
     // Per point and sample.
     let d4 = [dp, dh, dt, ds];
     let status: Vec<i8> = t.points.iter().map(|p| p.status as i8).collect();
-    let v = w.b.add_variable::<i8>("status", &d4).map_err(nc_err("status"))?;
+    let v =
+        w.b.add_variable::<i8>("status", &d4)
+            .map_err(nc_err("status"))?;
     w.text(v, "units", "1")?;
     w.text(v, "long_name", "status of the micro-solve of the point")?;
     w.attr(v, "flag_values", NcAttrValue::Bytes(vec![0, 1, 2]))?;
-    let meanings = [PointStatus::Converged, PointStatus::Failed, PointStatus::NotComputed]
-        .map(PointStatus::meaning)
-        .join(" ");
+    let meanings = [
+        PointStatus::Converged,
+        PointStatus::Failed,
+        PointStatus::NotComputed,
+    ]
+    .map(PointStatus::meaning)
+    .join(" ");
     w.text(v, "flag_meanings", &meanings)?;
     w.b.write_variable(v, &status).map_err(nc_err("status"))?;
-    let v = w
-        .b
-        .add_string_variable("failure_reason", &d4)
-        .map_err(nc_err("failure_reason"))?;
-    w.text(v, "long_name", "why the point failed (empty when converged)")?;
+    let v =
+        w.b.add_string_variable("failure_reason", &d4)
+            .map_err(nc_err("failure_reason"))?;
+    w.text(
+        v,
+        "long_name",
+        "why the point failed (empty when converged)",
+    )?;
     let reasons: Vec<&str> = t.points.iter().map(|p| p.reason.as_str()).collect();
     w.b.write_string_variable(v, &reasons)
         .map_err(nc_err("failure_reason"))?;
     let values: Vec<Option<PointValues>> = t.points.iter().map(|p| p.values).collect();
-    w.doubles("jump", &d4, "K", "macroscopic temperature jump theta - theta_c across the interface, Eq. (2.6)", &masked(&values, |v| v.jump), true)?;
-    w.doubles("conductance", &d4, "W m-2 K-1", "macroscopic contact conductance |h| / jump, Eq. (2.7)", &masked(&values, |v| v.conductance), true)?;
-    w.doubles("contact_fraction", &d4, "1", "real contact area fraction (projected on the mean plane)", &masked(&values, |v| v.contact_fraction), true)?;
-    w.doubles("mean_gap", &d4, "m", "mean gap over the slave surface", &masked(&values, |v| v.mean_gap), true)?;
+    w.doubles(
+        "jump",
+        &d4,
+        "K",
+        "macroscopic temperature jump theta - theta_c across the interface, Eq. (2.6)",
+        &masked(&values, |v| v.jump),
+        true,
+    )?;
+    w.doubles(
+        "conductance",
+        &d4,
+        "W m-2 K-1",
+        "macroscopic contact conductance |h| / jump, Eq. (2.7)",
+        &masked(&values, |v| v.conductance),
+        true,
+    )?;
+    w.doubles(
+        "contact_fraction",
+        &d4,
+        "1",
+        "real contact area fraction (projected on the mean plane)",
+        &masked(&values, |v| v.contact_fraction),
+        true,
+    )?;
+    w.doubles(
+        "mean_gap",
+        &d4,
+        "m",
+        "mean gap over the slave surface",
+        &masked(&values, |v| v.mean_gap),
+        true,
+    )?;
     let iters = |f: fn(&PointValues) -> u32| -> Vec<i32> {
         values
             .iter()
-            .map(|v| v.as_ref().map_or(FILL_INT, |v| f(v).min(i32::MAX as u32) as i32))
+            .map(|v| {
+                v.as_ref()
+                    .map_or(FILL_INT, |v| f(v).min(i32::MAX as u32) as i32)
+            })
             .collect()
     };
-    w.ints("self_consistency_iterations", &d4, "1", "self-consistency iterations of the two-phase identification (Sect. 3.3)", &iters(|v| v.self_consistency_iterations), true)?;
-    w.ints("newton_iterations", &d4, "1", "Newton iterations of the point, all phases", &iters(|v| v.newton_iterations), true)?;
+    w.ints(
+        "self_consistency_iterations",
+        &d4,
+        "1",
+        "self-consistency iterations of the two-phase identification (Sect. 3.3)",
+        &iters(|v| v.self_consistency_iterations),
+        true,
+    )?;
+    w.ints(
+        "newton_iterations",
+        &d4,
+        "1",
+        "Newton iterations of the point, all phases",
+        &iters(|v| v.newton_iterations),
+        true,
+    )?;
 
     // Per sample.
     let s = &t.surfaces;
-    w.doubles("upper_surface_rms", &[ds], "m", "RMS roughness of the upper surface (body 1) of the sample", &masked(s, |v: SampleSurfaces| v.upper_rms), true)?;
-    w.doubles("lower_surface_rms", &[ds], "m", "RMS roughness of the lower surface (body 2) of the sample", &masked(s, |v: SampleSurfaces| v.lower_rms), true)?;
-    w.doubles("upper_fit_error", &[ds], "m", "largest height error of the NURBS fit of the upper surface", &masked(s, |v: SampleSurfaces| v.upper_fit_error), true)?;
-    w.doubles("lower_fit_error", &[ds], "m", "largest height error of the NURBS fit of the lower surface", &masked(s, |v: SampleSurfaces| v.lower_fit_error), true)?;
+    w.doubles(
+        "upper_surface_rms",
+        &[ds],
+        "m",
+        "RMS roughness of the upper surface (body 1) of the sample",
+        &masked(s, |v: SampleSurfaces| v.upper_rms),
+        true,
+    )?;
+    w.doubles(
+        "lower_surface_rms",
+        &[ds],
+        "m",
+        "RMS roughness of the lower surface (body 2) of the sample",
+        &masked(s, |v: SampleSurfaces| v.lower_rms),
+        true,
+    )?;
+    w.doubles(
+        "upper_fit_error",
+        &[ds],
+        "m",
+        "largest height error of the NURBS fit of the upper surface",
+        &masked(s, |v: SampleSurfaces| v.upper_fit_error),
+        true,
+    )?;
+    w.doubles(
+        "lower_fit_error",
+        &[ds],
+        "m",
+        "largest height error of the NURBS fit of the lower surface",
+        &masked(s, |v: SampleSurfaces| v.lower_fit_error),
+        true,
+    )?;
 
     // Ensemble statistics.
     let st = t.statistics();
     let d3 = [dp, dh, dt];
     let conv: Vec<i32> = st.converged.iter().map(|&n| n as i32).collect();
-    w.ints("converged_samples", &d3, "1", "number of converged samples behind the ensemble statistics", &conv, false)?;
+    w.ints(
+        "converged_samples",
+        &d3,
+        "1",
+        "number of converged samples behind the ensemble statistics",
+        &conv,
+        false,
+    )?;
     for (name, units, stats) in [
         ("jump", "K", &st.jump),
         ("conductance", "W m-2 K-1", &st.conductance),
     ] {
         let field = |f: fn(&Summary) -> f64| -> Vec<f64> {
-            stats.iter().map(|s| s.as_ref().map_or(FILL_DOUBLE, f)).collect()
+            stats
+                .iter()
+                .map(|s| s.as_ref().map_or(FILL_DOUBLE, f))
+                .collect()
         };
-        w.doubles(&format!("{name}_mean"), &d3, units, &format!("ensemble mean of the {name} over the converged samples"), &field(|s| s.mean), true)?;
-        w.doubles(&format!("{name}_std"), &d3, units, &format!("ensemble standard deviation (n - 1) of the {name}"), &field(|s| s.std), true)?;
-        w.doubles(&format!("{name}_sem"), &d3, units, &format!("standard error of the ensemble mean of the {name}"), &field(|s| s.sem), true)?;
+        w.doubles(
+            &format!("{name}_mean"),
+            &d3,
+            units,
+            &format!("ensemble mean of the {name} over the converged samples"),
+            &field(|s| s.mean),
+            true,
+        )?;
+        w.doubles(
+            &format!("{name}_std"),
+            &d3,
+            units,
+            &format!("ensemble standard deviation (n - 1) of the {name}"),
+            &field(|s| s.std),
+            true,
+        )?;
+        w.doubles(
+            &format!("{name}_sem"),
+            &d3,
+            units,
+            &format!("standard error of the ensemble mean of the {name}"),
+            &field(|s| s.sem),
+            true,
+        )?;
         let q: Vec<f64> = stats
             .iter()
             .flat_map(|s| match s {
@@ -203,11 +348,20 @@ pub fn table_to_bytes(t: &Table) -> Result<Vec<u8>> {
                 None => [FILL_DOUBLE; QUANTILES.len()],
             })
             .collect();
-        w.doubles(&format!("{name}_quantile"), &[dp, dh, dt, dq], units, &format!("ensemble quantiles of the {name} (linear interpolation, numpy's default)"), &q, true)?;
+        w.doubles(
+            &format!("{name}_quantile"),
+            &[dp, dh, dt, dq],
+            units,
+            &format!("ensemble quantiles of the {name} (linear interpolation, numpy's default)"),
+            &q,
+            true,
+        )?;
     }
 
     // The configuration, as a scalar string variable (attributes over ~64 KB fail).
-    let v = w.b.add_string_variable("config", &[]).map_err(nc_err("config"))?;
+    let v =
+        w.b.add_string_variable("config", &[])
+            .map_err(nc_err("config"))?;
     w.text(v, "long_name", "the resolved sweep configuration (TOML)")?;
     w.b.write_string_variable(v, &[t.info.config.as_str()])
         .map_err(nc_err("config"))?;
@@ -218,27 +372,41 @@ pub fn table_to_bytes(t: &Table) -> Result<Vec<u8>> {
     w.global("title", NcAttrValue::Chars("tcgen thermal contact table: macroscopic temperature jump over pressure x flux x contact temperature x surface samples".into()))?;
     w.global("schema", NcAttrValue::Chars(SCHEMA_NAME.into()))?;
     w.global("schema_version", NcAttrValue::Ints(vec![SCHEMA_VERSION]))?;
-    w.global("random_surface_version", NcAttrValue::Ints(vec![RANDOM_SURFACE_VERSION as i32]))?;
+    w.global(
+        "random_surface_version",
+        NcAttrValue::Ints(vec![RANDOM_SURFACE_VERSION as i32]),
+    )?;
     w.global("generator", NcAttrValue::Chars(i.generator.clone()))?;
     w.global("git_revision", NcAttrValue::Chars(i.git_revision.clone()))?;
     w.global("source", NcAttrValue::Chars(i.source.clone()))?;
     w.global("config_sha256", NcAttrValue::Chars(i.config_sha256.clone()))?;
     w.global("seed", NcAttrValue::Int64s(vec![i.seed as i64]))?;
     w.global("samples", NcAttrValue::Ints(vec![ns as i32]))?;
-    w.global("identification", NcAttrValue::Chars(i.identification.clone()))?;
-    w.global("sign_convention", NcAttrValue::Chars(SIGN_CONVENTION.into()))?;
+    w.global(
+        "identification",
+        NcAttrValue::Chars(i.identification.clone()),
+    )?;
+    w.global(
+        "sign_convention",
+        NcAttrValue::Chars(SIGN_CONVENTION.into()),
+    )?;
     w.global("created", NcAttrValue::Chars(i.created.clone()))?;
     w.global("wall_time", NcAttrValue::Doubles(vec![i.wall_time]))?;
     w.global("threads", NcAttrValue::Ints(i.threads.clone()))?;
-    w.global("converged_points", NcAttrValue::Ints(vec![t.count(PointStatus::Converged) as i32]))?;
-    w.global("failed_points", NcAttrValue::Ints(vec![t.count(PointStatus::Failed) as i32]))?;
+    w.global(
+        "converged_points",
+        NcAttrValue::Ints(vec![t.count(PointStatus::Converged) as i32]),
+    )?;
+    w.global(
+        "failed_points",
+        NcAttrValue::Ints(vec![t.count(PointStatus::Failed) as i32]),
+    )?;
     if let Some(sh) = i.shard {
         w.global("shard_index", NcAttrValue::Ints(vec![sh.index as i32]))?;
         w.global("shard_count", NcAttrValue::Ints(vec![sh.count as i32]))?;
     }
-    let (_, bytes) = w
-        .b
-        .to_vec(NcWriteOptions {
+    let (_, bytes) =
+        w.b.to_vec(NcWriteOptions {
             format: NcWriteFormat::Nc4,
         })
         .map_err(nc_err("table"))?;
@@ -266,7 +434,9 @@ pub fn read_table(path: &Path) -> Result<Table> {
             .map_err(rd_err(path))?
             .value
             .as_string()
-            .ok_or_else(|| Error::Config(format!("{}: attribute {name} is not text", path.display())))
+            .ok_or_else(|| {
+                Error::Config(format!("{}: attribute {name} is not text", path.display()))
+            })
     };
     let ints = |name: &str| -> Result<Vec<i64>> {
         let a = &f.global_attribute(name).map_err(rd_err(path))?.value;
@@ -336,7 +506,11 @@ pub fn read_table(path: &Path) -> Result<Table> {
     let mut points = Vec::with_capacity(n);
     for i in 0..n {
         let st = PointStatus::from_code(status[i]).ok_or_else(|| {
-            Error::Config(format!("{}: status code {} at point {i}", path.display(), status[i]))
+            Error::Config(format!(
+                "{}: status code {} at point {i}",
+                path.display(),
+                status[i]
+            ))
         })?;
         points.push(PointRecord {
             status: st,
@@ -404,7 +578,8 @@ pub fn read_table(path: &Path) -> Result<Table> {
         surfaces,
         info,
     };
-    t.check().map_err(|e| Error::Config(format!("{}: {e}", path.display())))?;
+    t.check()
+        .map_err(|e| Error::Config(format!("{}: {e}", path.display())))?;
     Ok(t)
 }
 

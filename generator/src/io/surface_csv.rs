@@ -50,7 +50,12 @@ pub fn export_surfaces(case: &Case, points: usize) -> Result<SurfaceExport> {
     let x: Vec<f64> = (0..points).map(|j| w * j as f64 / points as f64).collect();
     let describe = |s: &crate::surface::SurfaceSpec| {
         toml::Value::try_from(s)
-            .map(|v| v.to_string().replace('\n', ", ").trim_end_matches([',', ' ']).to_string())
+            .map(|v| {
+                v.to_string()
+                    .replace('\n', ", ")
+                    .trim_end_matches([',', ' '])
+                    .to_string()
+            })
             .unwrap_or_default()
     };
     Ok(SurfaceExport {

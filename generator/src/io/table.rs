@@ -209,23 +209,35 @@ impl Table {
             return bad(format!("{} points for a grid of {n}", self.points.len()));
         }
         if self.surfaces.len() != self.samples {
-            return bad(format!("{} surface entries for {} samples", self.surfaces.len(), self.samples));
+            return bad(format!(
+                "{} surface entries for {} samples",
+                self.surfaces.len(),
+                self.samples
+            ));
         }
         for (name, axis) in [
             ("pressure", &self.pressure),
             ("flux", &self.flux),
             ("contact_temperature", &self.contact_temperature),
         ] {
-            if axis.is_empty() || axis.windows(2).any(|w| w[0] >= w[1]) || axis.iter().any(|v| !v.is_finite()) {
+            if axis.is_empty()
+                || axis.windows(2).any(|w| w[0] >= w[1])
+                || axis.iter().any(|v| !v.is_finite())
+            {
                 return bad(format!("{name} is not a finite increasing axis"));
             }
         }
         for (i, p) in self.points.iter().enumerate() {
             if (p.status == PointStatus::Converged) != p.values.is_some() {
-                return bad(format!("point {i}: status {:?} with values {:?}", p.status, p.values));
+                return bad(format!(
+                    "point {i}: status {:?} with values {:?}",
+                    p.status, p.values
+                ));
             }
             if let Some(v) = p.values
-                && [v.jump, v.contact_fraction, v.mean_gap].iter().any(|x| !x.is_finite())
+                && [v.jump, v.contact_fraction, v.mean_gap]
+                    .iter()
+                    .any(|x| !x.is_finite())
             {
                 return bad(format!("point {i}: non-finite values {v:?}"));
             }

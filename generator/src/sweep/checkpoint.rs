@@ -89,13 +89,18 @@ fn to_line(k: usize, o: &PathOutcome) -> PathLine {
                 v: p.values.map(|v| {
                     [v.jump, v.conductance, v.contact_fraction, v.mean_gap].map(f64::to_bits)
                 }),
-                i: p
-                    .values
+                i: p.values
                     .map(|v| [v.self_consistency_iterations, v.newton_iterations]),
             })
             .collect(),
         surfaces: o.surfaces.map(|s| {
-            [s.upper_rms, s.lower_rms, s.upper_fit_error, s.lower_fit_error].map(f64::to_bits)
+            [
+                s.upper_rms,
+                s.lower_rms,
+                s.upper_fit_error,
+                s.lower_fit_error,
+            ]
+            .map(f64::to_bits)
         }),
         setup: o.setup_seconds,
         solve: o.solve_seconds,
@@ -184,8 +189,8 @@ impl Checkpoint {
         let first = lines
             .next()
             .ok_or_else(|| bad("empty checkpoint (delete it to start afresh)".into()))?;
-        let found: Header = serde_json::from_str(first)
-            .map_err(|e| bad(format!("not a tcgen checkpoint: {e}")))?;
+        let found: Header =
+            serde_json::from_str(first).map_err(|e| bad(format!("not a tcgen checkpoint: {e}")))?;
         if found.format != FORMAT || found.version != VERSION {
             return Err(bad(format!(
                 "checkpoint format {} v{}; this tcgen writes {FORMAT} v{VERSION}",

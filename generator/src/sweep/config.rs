@@ -110,7 +110,11 @@ impl AxisSpec {
             }
         };
         if v.is_empty() {
-            return Err(Error::invalid(key, "[]", format!("at least one value ({unit})")));
+            return Err(Error::invalid(
+                key,
+                "[]",
+                format!("at least one value ({unit})"),
+            ));
         }
         for (i, x) in v.iter().enumerate() {
             if !(x.is_finite() && *x > 0.0) {
@@ -239,7 +243,11 @@ impl SweepConfig {
             ));
         }
         if sweep.seed > i64::MAX as u64 {
-            return Err(Error::invalid("sweep.seed", sweep.seed, "an integer in 0..2^63"));
+            return Err(Error::invalid(
+                "sweep.seed",
+                sweep.seed,
+                "an integer in 0..2^63",
+            ));
         }
         let mut case: Case = toml::Value::Table(table)
             .try_into()
@@ -388,19 +396,42 @@ seed = 5
     #[test]
     fn errors_name_the_key() {
         for (from, to, key) in [
-            ("fluxes = [1.0e5, 1.0e6]", "fluxes = [1.0e6, 1.0e5]", "sweep.fluxes[1]"),
+            (
+                "fluxes = [1.0e5, 1.0e6]",
+                "fluxes = [1.0e6, 1.0e5]",
+                "sweep.fluxes[1]",
+            ),
             ("count = 3", "count = 0", "sweep.pressures.count"),
             ("samples = 2", "samples = 2\nsamplez = 3", "samplez"),
-            ("kind = \"flat\"", "kind = \"flat\"\n[load]\nflux = 1.0", "[load]"),
-            ("correlation_length = 2.0e-6", "correlation_length = 2.0e-6\nseed = 3", "surface.upper.seed"),
-            ("contact_temperatures = 293.15", "contact_temperatures = -1.0", "sweep.contact_temperatures[0]"),
+            (
+                "kind = \"flat\"",
+                "kind = \"flat\"\n[load]\nflux = 1.0",
+                "[load]",
+            ),
+            (
+                "correlation_length = 2.0e-6",
+                "correlation_length = 2.0e-6\nseed = 3",
+                "surface.upper.seed",
+            ),
+            (
+                "contact_temperatures = 293.15",
+                "contact_temperatures = -1.0",
+                "sweep.contact_temperatures[0]",
+            ),
         ] {
             let t = BASE.replace(from, to);
-            let e = SweepConfig::from_toml(&t, Path::new(".")).unwrap_err().to_string();
+            let e = SweepConfig::from_toml(&t, Path::new("."))
+                .unwrap_err()
+                .to_string();
             assert!(e.contains(key), "{key}: {e}");
         }
-        let flat = BASE.replace("kind = \"random\"\nrms = 5.0e-7\nspectrum = \"gaussian\"\ncorrelation_length = 2.0e-6", "kind = \"flat\"");
-        let e = SweepConfig::from_toml(&flat, Path::new(".")).unwrap_err().to_string();
+        let flat = BASE.replace(
+            "kind = \"random\"\nrms = 5.0e-7\nspectrum = \"gaussian\"\ncorrelation_length = 2.0e-6",
+            "kind = \"flat\"",
+        );
+        let e = SweepConfig::from_toml(&flat, Path::new("."))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("sweep.samples"), "{e}");
         let e = SweepConfig::from_toml("[surface.upper]\nkind = \"flat\"\n", Path::new("."))
             .unwrap_err()

@@ -78,8 +78,9 @@ pub fn ensemble_statistics(table: &Table) -> EnsembleStatistics {
             .filter_map(|p| p.values)
             .collect();
         out.converged.push(values.len());
-        out.jump
-            .push(summarize(&values.iter().map(|v| v.jump).collect::<Vec<_>>()));
+        out.jump.push(summarize(
+            &values.iter().map(|v| v.jump).collect::<Vec<_>>(),
+        ));
         out.conductance.push(summarize(
             &values.iter().map(|v| v.conductance).collect::<Vec<_>>(),
         ));

@@ -29,9 +29,17 @@ pub fn merge_tables(shards: &[Table]) -> Result<Table> {
             return Err(Error::Config(format!("shard {s} is given twice")));
         }
         for (what, a, b) in [
-            ("config_sha256", &t.info.config_sha256, &first.info.config_sha256),
+            (
+                "config_sha256",
+                &t.info.config_sha256,
+                &first.info.config_sha256,
+            ),
             ("generator", &t.info.generator, &first.info.generator),
-            ("git_revision", &t.info.git_revision, &first.info.git_revision),
+            (
+                "git_revision",
+                &t.info.git_revision,
+                &first.info.git_revision,
+            ),
         ] {
             if a != b {
                 return Err(Error::Config(format!(

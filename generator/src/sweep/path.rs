@@ -73,8 +73,9 @@ pub fn surface_rms(s: &dyn Surface, width: f64) -> f64 {
     (sq / n as f64 - mean * mean).max(0.0).sqrt()
 }
 
-/// The surface measures of a case's sample (`None` if a surface fails to build).
-pub fn sample_surfaces(case: &Case, solver: &PathSolver) -> Option<SampleSurfaces> {
+/// The surface measures of a case's sample: RMS and NURBS fit errors at the
+/// case's discretization (`None` if a surface fails to build).
+pub fn sample_surfaces(case: &Case) -> Option<SampleSurfaces> {
     let w = case.sample.width;
     let up = case
         .surface
@@ -86,11 +87,12 @@ pub fn sample_surfaces(case: &Case, solver: &PathSolver) -> Option<SampleSurface
         .lower
         .build("surface.lower", w, &case.base_dir)
         .ok()?;
+    let geo = crate::sample::micro::sample_geometry(case, up.as_ref(), lo.as_ref());
     Some(SampleSurfaces {
         upper_rms: surface_rms(up.as_ref(), w),
         lower_rms: surface_rms(lo.as_ref(), w),
-        upper_fit_error: solver.geometry.fit_upper.max_error,
-        lower_fit_error: solver.geometry.fit_lower.max_error,
+        upper_fit_error: geo.fit_upper.max_error,
+        lower_fit_error: geo.fit_lower.max_error,
     })
 }
 
@@ -102,10 +104,14 @@ pub fn solve_path(
     continuation: bool,
     on_point: &(dyn Fn(&PointRecord) + Sync),
 ) -> PathOutcome {
+    let t = Instant::now();
+    let surfaces = catch_unwind(AssertUnwindSafe(|| sample_surfaces(case)))
+        .ok()
+        .flatten();
     let mut out = PathOutcome {
         points: Vec::with_capacity(case.load.pressures.len()),
-        surfaces: None,
-        setup_seconds: 0.0,
+        surfaces,
+        setup_seconds: t.elapsed().as_secs_f64(),
         solve_seconds: 0.0,
     };
     let mut solver: Option<PathSolver> = None;
@@ -115,12 +121,7 @@ pub fn solve_path(
             let built = catch_unwind(AssertUnwindSafe(|| PathSolver::new(case)));
             out.setup_seconds += t.elapsed().as_secs_f64();
             match built {
-                Ok(Ok(s)) => {
-                    if out.surfaces.is_none() {
-                        out.surfaces = sample_surfaces(case, &s);
-                    }
-                    solver = Some(s);
-                }
+                Ok(Ok(s)) => solver = Some(s),
                 Ok(Err(e)) => {
                     let r = PointRecord::failed(format!("set-up failed: {e}"));
                     on_point(&r);

@@ -116,7 +116,11 @@ impl Progress {
             "[tcgen sweep] {done}/{} micro-solves ({:.1} %), {rate:.3}/s, ETA {}, {failed} failed, elapsed {}",
             self.total,
             100.0 * done as f64 / self.total.max(1) as f64,
-            if done == 0 { "?".into() } else { format_duration(eta) },
+            if done == 0 {
+                "?".into()
+            } else {
+                format_duration(eta)
+            },
             format_duration(elapsed)
         )
     }
@@ -142,7 +146,11 @@ mod tests {
         p.point(false);
         p.point(true);
         assert_eq!(p.counts(), (2, 1));
-        assert!(p.line().contains("2/4 micro-solves (50.0 %)"), "{}", p.line());
+        assert!(
+            p.line().contains("2/4 micro-solves (50.0 %)"),
+            "{}",
+            p.line()
+        );
         assert_eq!(format_duration(3723.0), "1h02m03s");
         assert_eq!(format_duration(61.0), "1m01s");
     }

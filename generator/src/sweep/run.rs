@@ -205,8 +205,7 @@ pub fn run_sweep(cfg: &SweepConfig, output: &Path, options: &SweepOptions) -> Re
     let checkpoint_time = Mutex::new(0.0);
     pool.install(|| {
         tasks.par_iter().for_each(|task| {
-            if stop.load(Ordering::SeqCst)
-                || options.deadline.is_some_and(|d| Instant::now() >= d)
+            if stop.load(Ordering::SeqCst) || options.deadline.is_some_and(|d| Instant::now() >= d)
             {
                 stop.store(true, Ordering::SeqCst);
                 return;
@@ -229,12 +228,18 @@ pub fn run_sweep(cfg: &SweepConfig, output: &Path, options: &SweepOptions) -> Re
             for (&k, o) in task.iter().zip(outcomes) {
                 let t = Instant::now();
                 if let Err(e) = checkpoint.append(k, &o) {
-                    first_error.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert(e);
+                    first_error
+                        .lock()
+                        .unwrap_or_else(|p| p.into_inner())
+                        .get_or_insert(e);
                     stop.store(true, Ordering::SeqCst);
                 }
                 *checkpoint_time.lock().unwrap_or_else(|p| p.into_inner()) +=
                     t.elapsed().as_secs_f64();
-                results.lock().unwrap_or_else(|p| p.into_inner()).push((k, o));
+                results
+                    .lock()
+                    .unwrap_or_else(|p| p.into_inner())
+                    .push((k, o));
             }
         });
     });
@@ -244,7 +249,9 @@ pub fn run_sweep(cfg: &SweepConfig, output: &Path, options: &SweepOptions) -> Re
     }
     let new = results.into_inner().unwrap_or_else(|p| p.into_inner());
     let mut timing = Timing {
-        checkpoint: checkpoint_time.into_inner().unwrap_or_else(|p| p.into_inner()),
+        checkpoint: checkpoint_time
+            .into_inner()
+            .unwrap_or_else(|p| p.into_inner()),
         ..Timing::default()
     };
     for (_, o) in &new {

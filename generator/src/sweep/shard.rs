@@ -85,7 +85,10 @@ mod tests {
 
     #[test]
     fn parses_and_rejects() {
-        assert_eq!("2/5".parse::<Shard>().unwrap(), Shard { index: 2, count: 5 });
+        assert_eq!(
+            "2/5".parse::<Shard>().unwrap(),
+            Shard { index: 2, count: 5 }
+        );
         for bad in ["5/5", "1", "a/2", "0/0", "-1/3"] {
             let e = bad.parse::<Shard>().unwrap_err().to_string();
             assert!(e.contains("--shard"), "{bad}: {e}");
