@@ -41,12 +41,321 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         vtk: Option<std::path::PathBuf>,
     },
+    /// Build a table of the macroscopic jump over pressure × flux × contact temperature × samples.
+    ///
+    /// Exit status: 0 done; 1 a point failed (unless --allow-failures) or an error; 2 a bad
+    /// configuration; 3 stopped by --time-limit (finished paths are in the checkpoint: --resume).
+    Sweep {
+        /// The sweep file: case keys plus [sweep] (see schemas/table.md and tables/).
+        config: std::path::PathBuf,
+        /// The table to write (netCDF-4); the checkpoint is <OUTPUT>.checkpoint.
+        #[arg(short, long)]
+        output: std::path::PathBuf,
+        /// Continue from the checkpoint of an interrupted run.
+        #[arg(long)]
+        resume: bool,
+        /// Compute shard i of n (0-based, e.g. 0/4); merge the shards with `tcgen merge`.
+        #[arg(long)]
+        shard: Option<tcgen::sweep::Shard>,
+        /// Worker threads (default: RAYON_NUM_THREADS or the number of cores).
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Exit with status 0 even if some points failed (they are masked in the table).
+        #[arg(long)]
+        allow_failures: bool,
+        /// Progress display (auto: a bar on a terminal, log lines otherwise).
+        #[arg(long, value_enum, default_value_t = ProgressArg::Auto)]
+        progress: ProgressArg,
+        /// Seconds between progress log lines.
+        #[arg(long, default_value_t = 60.0)]
+        log_interval: f64,
+        /// Start no new path after this many seconds; finished paths stay in the checkpoint.
+        #[arg(long)]
+        time_limit: Option<f64>,
+    },
+    /// Merge the shards of a sweep into the table a single run writes.
+    Merge {
+        /// The shard tables (any order).
+        #[arg(required = true)]
+        shards: Vec<std::path::PathBuf>,
+        /// The merged table.
+        #[arg(short, long)]
+        output: std::path::PathBuf,
+        /// Exit with status 0 even if some points failed.
+        #[arg(long)]
+        allow_failures: bool,
+    },
+    /// Write the surfaces of a case (or of one sample of a sweep) as CSV with their NURBS fit error.
+    Surface {
+        /// A case file, or a sweep file (its seed; --sample picks the sample).
+        case: std::path::PathBuf,
+        /// The CSV to write.
+        #[arg(short, long)]
+        output: std::path::PathBuf,
+        /// Sample index of random surfaces (default 0).
+        #[arg(long)]
+        sample: Option<u64>,
+        /// Seed of random surfaces (default: the file's).
+        #[arg(long)]
+        seed: Option<u64>,
+        /// Abscissae per period.
+        #[arg(long, default_value_t = 1024)]
+        points: usize,
+        /// Which surfaces: both (x,upper,lower,upper_fit,lower_fit) or one (x,z, importable as kind = "profile").
+        #[arg(long, value_enum, default_value_t = BodyArg::Both)]
+        body: BodyArg,
+    },
+    /// Write the contact law (ensemble-mean jump and its spread) of a table for macroscale codes.
+    Law {
+        /// The table (a complete, merged table with every point converged).
+        table: std::path::PathBuf,
+        /// The law file (schemas/law.md).
+        #[arg(short, long)]
+        output: std::path::PathBuf,
+    },
     /// Print performance figures of assembly and the sparse solvers.
     Bench {
         /// Approximate numbers of unknowns to benchmark.
         #[arg(long, value_delimiter = ',', default_values_t = vec![20_000usize, 100_000])]
         sizes: Vec<usize>,
     },
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum ProgressArg {
+    Auto,
+    Bar,
+    Log,
+    Quiet,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum BodyArg {
+    Both,
+    Upper,
+    Lower,
+}
+
+struct SweepArgs {
+    config: std::path::PathBuf,
+    output: std::path::PathBuf,
+    resume: bool,
+    shard: Option<tcgen::sweep::Shard>,
+    threads: Option<usize>,
+    allow_failures: bool,
+    progress: ProgressArg,
+    log_interval: f64,
+    time_limit: Option<f64>,
+}
+
+fn failures_exit(failed: usize, allow: bool) -> ExitCode {
+    if failed == 0 || allow {
+        ExitCode::SUCCESS
+    } else {
+        eprintln!("{failed} point(s) failed (masked in the table); --allow-failures accepts them");
+        ExitCode::FAILURE
+    }
+}
+
+fn sweep(a: SweepArgs) -> ExitCode {
+    use tcgen::sweep::{ProgressMode, Shard, SweepConfig, SweepOptions, run_sweep};
+    let cfg = match SweepConfig::read(&a.config) {
+        Ok(c) => c,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let start = std::time::Instant::now();
+    let options = SweepOptions {
+        threads: a.threads,
+        shard: a.shard.unwrap_or(Shard::ALL),
+        resume: a.resume,
+        progress: match a.progress {
+            ProgressArg::Auto => ProgressMode::Auto,
+            ProgressArg::Bar => ProgressMode::Bar,
+            ProgressArg::Log => ProgressMode::Log,
+            ProgressArg::Quiet => ProgressMode::Quiet,
+        },
+        log_interval: std::time::Duration::from_secs_f64(a.log_interval.max(0.0)),
+        deadline: a
+            .time_limit
+            .map(|s| start + std::time::Duration::from_secs_f64(s.max(0.0))),
+        max_paths: None,
+    };
+    let (np, nh, nt, ns) = (
+        cfg.pressures.len(),
+        cfg.fluxes.len(),
+        cfg.contact_temperatures.len(),
+        cfg.sweep.samples,
+    );
+    println!(
+        "tcgen sweep {} -> {}: {np} pressures x {nh} fluxes x {nt} contact temperatures x {ns} samples = {} micro-solves (shard {})",
+        a.config.display(),
+        a.output.display(),
+        np * nh * nt * ns,
+        options.shard
+    );
+    let r = match run_sweep(&cfg, &a.output, &options) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let t = &r.timing;
+    println!(
+        "  {} of {} paths computed ({} micro-solves, {} failed) on {} threads in {:.1} s: {:.3} micro-solves/s; {} paths reused from the checkpoint",
+        r.computed_paths,
+        r.shard_paths,
+        r.micro_solves,
+        r.failed_micro_solves,
+        r.threads,
+        t.wall,
+        r.micro_solves as f64 / t.wall.max(1e-9),
+        r.reused_paths
+    );
+    println!(
+        "  time: set-up {:.2} s, micro-solves {:.2} s (thread-seconds), checkpoint {:.3} s, table write {:.3} s",
+        t.setup, t.solve, t.checkpoint, t.write
+    );
+    match r.table {
+        None => {
+            println!(
+                "  stopped by --time-limit: {} paths remain; continue with --resume",
+                r.shard_paths - r.reused_paths - r.computed_paths
+            );
+            ExitCode::from(3)
+        }
+        Some(table) => {
+            let failed = table.count(tcgen::io::PointStatus::Failed);
+            println!(
+                "  wrote {}: {} converged, {failed} failed points",
+                a.output.display(),
+                table.count(tcgen::io::PointStatus::Converged)
+            );
+            failures_exit(failed, a.allow_failures)
+        }
+    }
+}
+
+fn merge(shards: &[std::path::PathBuf], output: &std::path::Path, allow: bool) -> ExitCode {
+    let result = (|| -> tcgen::Result<tcgen::io::Table> {
+        let tables = shards
+            .iter()
+            .map(|p| tcgen::io::read_table(p))
+            .collect::<tcgen::Result<Vec<_>>>()?;
+        let t = tcgen::sweep::merge_tables(&tables)?;
+        tcgen::io::write_table(&t, output)?;
+        Ok(t)
+    })();
+    match result {
+        Ok(t) => {
+            let failed = t.count(tcgen::io::PointStatus::Failed);
+            println!(
+                "merged {} shards into {}: {} converged, {failed} failed points",
+                shards.len(),
+                output.display(),
+                t.count(tcgen::io::PointStatus::Converged)
+            );
+            failures_exit(failed, allow)
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn surface(
+    path: &std::path::Path,
+    output: &std::path::Path,
+    sample: Option<u64>,
+    seed: Option<u64>,
+    points: usize,
+    body: BodyArg,
+) -> ExitCode {
+    use tcgen::io::surface_csv::{Bodies, export_surfaces, write_surface_csv};
+    use tcgen::surface::SurfaceSpec;
+    let result = (|| -> tcgen::Result<()> {
+        let text = std::fs::read_to_string(path).map_err(|e| tcgen::Error::Io {
+            path: path.display().to_string(),
+            source: e,
+        })?;
+        let is_sweep = toml::from_str::<toml::Table>(&text)
+            .map(|t| t.contains_key("sweep"))
+            .unwrap_or(false);
+        let mut case = if is_sweep {
+            tcgen::sweep::SweepConfig::read(path)?.path_case(0, 0, 0)
+        } else {
+            tcgen::sample::Case::read(path)?
+        };
+        for s in [&mut case.surface.upper, &mut case.surface.lower] {
+            if let SurfaceSpec::Random(r) = s {
+                if let Some(k) = sample {
+                    r.sample = Some(k);
+                }
+                if let Some(k) = seed {
+                    r.seed = Some(k);
+                }
+            }
+        }
+        let e = export_surfaces(&case, points)?;
+        let bodies = match body {
+            BodyArg::Both => Bodies::Both,
+            BodyArg::Upper => Bodies::Upper,
+            BodyArg::Lower => Bodies::Lower,
+        };
+        write_surface_csv(&e, bodies, output)?;
+        for (b, name) in [(0, "upper"), (1, "lower")] {
+            println!(
+                "{name}: rms {:.4e} m; NURBS fit ({} elements, degree {}) error max {:.3e} m, rms {:.3e} m",
+                e.rms[b],
+                if b == 0 {
+                    case.discretization.elements_upper[0]
+                } else {
+                    case.discretization.elements_lower[0]
+                },
+                case.discretization.degree,
+                e.fit_max_error[b],
+                e.fit_rms_error[b]
+            );
+        }
+        println!("wrote {} ({points} points)", output.display());
+        Ok(())
+    })();
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn law(table: &std::path::Path, output: &std::path::Path) -> ExitCode {
+    match tcgen::io::write_law(table, output) {
+        Ok(l) => {
+            let a = l.axes();
+            println!(
+                "wrote {}: {} pressures x {} fluxes x {} contact temperatures, {}",
+                output.display(),
+                a.pressure.len(),
+                a.flux.len(),
+                a.contact_temperature.len(),
+                match l.info().statistic {
+                    lookup::Statistic::EnsembleMean { samples } =>
+                        format!("ensemble mean of {samples} samples"),
+                    lookup::Statistic::Deterministic => "deterministic".into(),
+                }
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
 }
 
 fn verify(json: bool, filter: Option<String>, list: bool) -> ExitCode {
@@ -174,6 +483,41 @@ fn main() -> ExitCode {
     match cli.command {
         Command::Verify { json, filter, list } => verify(json, filter, list),
         Command::Solve { case, json, vtk } => solve(&case, json, vtk),
+        Command::Sweep {
+            config,
+            output,
+            resume,
+            shard,
+            threads,
+            allow_failures,
+            progress,
+            log_interval,
+            time_limit,
+        } => sweep(SweepArgs {
+            config,
+            output,
+            resume,
+            shard,
+            threads,
+            allow_failures,
+            progress,
+            log_interval,
+            time_limit,
+        }),
+        Command::Merge {
+            shards,
+            output,
+            allow_failures,
+        } => merge(&shards, &output, allow_failures),
+        Command::Surface {
+            case,
+            output,
+            sample,
+            seed,
+            points,
+            body,
+        } => surface(&case, &output, sample, seed, points, body),
+        Command::Law { table, output } => law(&table, &output),
         Command::Bench { sizes } => match tcgen::bench::main_bench(&sizes) {
             Ok(()) => ExitCode::SUCCESS,
             Err(e) => {

@@ -9,8 +9,10 @@ use serde::{Deserialize, Serialize};
 use crate::{Error, Result};
 
 pub mod profile;
+pub mod random;
 
 pub use profile::Profile;
+pub use random::{RandomSpec, RandomSurface, SpectrumKind};
 
 /// A surface height function over `[0, width]`, zero mean, periodic.
 pub trait Surface: Send + Sync {
@@ -39,6 +41,8 @@ pub enum SurfaceSpec {
         /// Path of the CSV file, relative to the case file.
         file: PathBuf,
     },
+    /// Gaussian random heights, periodic, seeded (see [`random`]); keys of [`RandomSpec`].
+    Random(RandomSpec),
 }
 
 /// `f(x) = A cos(2πx/λ + φ)`.
@@ -73,6 +77,7 @@ impl SurfaceSpec {
     pub fn validate(&self, key: &str, width: f64) -> Result<()> {
         match self {
             SurfaceSpec::Flat | SurfaceSpec::Profile { .. } => Ok(()),
+            SurfaceSpec::Random(r) => r.validate(key, width),
             SurfaceSpec::Sinusoid {
                 rms,
                 wavelength,
@@ -137,6 +142,7 @@ impl SurfaceSpec {
                 };
                 Box::new(Profile::read(&path, width, &format!("{key}.file"))?)
             }
+            SurfaceSpec::Random(r) => Box::new(r.generate(key, width)),
         })
     }
 }

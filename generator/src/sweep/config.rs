@@ -1,0 +1,441 @@
+//! The sweep configuration of `tcgen sweep`: the keys of a `tcgen solve` case
+//! file (without `[load]`) plus `[sweep]`:
+//!
+//! ```toml
+//! [sweep]
+//! pressures = { from = 1.0e3, to = 1.0e5, count = 8, spacing = "log" }   # Pa
+//! fluxes = [1.0e5, 1.0e6]                                                 # W/m²
+//! contact_temperatures = 293.15                                           # K
+//! samples = 4          # surface samples (random surfaces only; default 1)
+//! seed = 1             # ensemble seed k (default 1)
+//! continuation = true  # pressure continuation along each path (default true)
+//! ```
+//!
+//! An axis is a number, a list (strictly increasing), or a range
+//! `{ from, to, count, spacing = "log" | "linear" }` (both ends included).
+//! Random surfaces (`kind = "random"`) get `seed = [sweep] seed` and
+//! `sample = s` for sample `s = 0..samples`; they must not set them.
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use crate::io::hash::sha256_hex;
+use crate::sample::Case;
+use crate::surface::SurfaceSpec;
+use crate::{Error, Result};
+
+/// Spacing of a range axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Spacing {
+    /// Geometric: equal ratios.
+    Log,
+    /// Arithmetic: equal steps.
+    Linear,
+}
+
+/// A range axis `{ from, to, count, spacing }`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RangeSpec {
+    /// First value.
+    pub from: f64,
+    /// Last value (included).
+    pub to: f64,
+    /// Number of values, ≥ 1 (1: just `from`).
+    pub count: usize,
+    /// Spacing.
+    pub spacing: Spacing,
+}
+
+/// One axis of the grid as written.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum AxisSpec {
+    /// A single value.
+    Value(f64),
+    /// Explicit values, strictly increasing.
+    List(Vec<f64>),
+    /// A range.
+    Range(RangeSpec),
+}
+
+impl AxisSpec {
+    /// The values; `key` names the axis for errors (e.g. `sweep.pressures`).
+    pub fn values(&self, key: &str, unit: &str) -> Result<Vec<f64>> {
+        let v = match self {
+            AxisSpec::Value(x) => vec![*x],
+            AxisSpec::List(v) => v.clone(),
+            AxisSpec::Range(r) => {
+                if !(1..=10_000).contains(&r.count) {
+                    return Err(Error::invalid(
+                        format!("{key}.count"),
+                        r.count,
+                        "an integer in 1..=10000",
+                    ));
+                }
+                for (k, x) in [("from", r.from), ("to", r.to)] {
+                    if !(x.is_finite() && x > 0.0) {
+                        return Err(Error::invalid(
+                            format!("{key}.{k}"),
+                            x,
+                            format!("a finite number > 0 ({unit})"),
+                        ));
+                    }
+                }
+                if r.count > 1 && r.to <= r.from {
+                    return Err(Error::invalid(
+                        format!("{key}.to"),
+                        r.to,
+                        format!("greater than from = {}", r.from),
+                    ));
+                }
+                let n = r.count;
+                (0..n)
+                    .map(|i| {
+                        if i == 0 {
+                            return r.from;
+                        }
+                        if i == n - 1 {
+                            return r.to;
+                        }
+                        let t = i as f64 / (n - 1) as f64;
+                        match r.spacing {
+                            Spacing::Linear => r.from + t * (r.to - r.from),
+                            Spacing::Log => r.from * (r.to / r.from).powf(t),
+                        }
+                    })
+                    .collect()
+            }
+        };
+        if v.is_empty() {
+            return Err(Error::invalid(
+                key,
+                "[]",
+                format!("at least one value ({unit})"),
+            ));
+        }
+        for (i, x) in v.iter().enumerate() {
+            if !(x.is_finite() && *x > 0.0) {
+                return Err(Error::invalid(
+                    format!("{key}[{i}]"),
+                    x,
+                    format!("a finite number > 0 ({unit})"),
+                ));
+            }
+            if i > 0 && *x <= v[i - 1] {
+                return Err(Error::invalid(
+                    format!("{key}[{i}]"),
+                    x,
+                    format!("strictly increasing values (after {})", v[i - 1]),
+                ));
+            }
+        }
+        Ok(v)
+    }
+}
+
+fn default_samples() -> usize {
+    1
+}
+
+fn default_seed() -> u64 {
+    1
+}
+
+fn default_true() -> bool {
+    true
+}
+
+/// `[sweep]` as written.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SweepSection {
+    /// Pressures `p̄N` (Pa).
+    pub pressures: AxisSpec,
+    /// Flux magnitudes `|h̄|` (W/m²).
+    pub fluxes: AxisSpec,
+    /// Contact temperatures `θ̄c` (K).
+    pub contact_temperatures: AxisSpec,
+    /// Number of surface samples (default 1).
+    #[serde(default = "default_samples")]
+    pub samples: usize,
+    /// Ensemble seed `k` (default 1), `0 ≤ k < 2⁶³`.
+    #[serde(default = "default_seed")]
+    pub seed: u64,
+    /// Pressure continuation along a path (default true): each pressure starts
+    /// from the converged state of the previous one. `false` solves every
+    /// pressure from zero load with a fresh model (slower, independent points).
+    #[serde(default = "default_true")]
+    pub continuation: bool,
+}
+
+/// A validated sweep configuration.
+#[derive(Clone, Debug)]
+pub struct SweepConfig {
+    /// The case keys; `load` holds the first flux and contact temperature and all pressures.
+    pub case: Case,
+    /// `[sweep]` as written.
+    pub sweep: SweepSection,
+    /// Pressures (Pa), increasing.
+    pub pressures: Vec<f64>,
+    /// Fluxes (W/m²), increasing.
+    pub fluxes: Vec<f64>,
+    /// Contact temperatures (K), increasing.
+    pub contact_temperatures: Vec<f64>,
+    /// The resolved configuration as TOML (every key explicit, axes as lists).
+    pub resolved: String,
+    /// SHA-256 of `resolved`.
+    pub sha256: String,
+    /// The file read (empty for text).
+    pub source: PathBuf,
+}
+
+fn config_err(e: impl std::fmt::Display) -> Error {
+    Error::Config(e.to_string())
+}
+
+impl SweepConfig {
+    /// Reads and validates a sweep file.
+    pub fn read(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
+            path: path.display().to_string(),
+            source: e,
+        })?;
+        let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        let mut c = SweepConfig::from_toml(&text, &dir).map_err(|e| match e {
+            Error::Config(m) => Error::Config(format!("{}: {m}", path.display())),
+            other => other,
+        })?;
+        c.source = path.to_path_buf();
+        Ok(c)
+    }
+
+    /// Parses TOML text; `base_dir` resolves relative paths (profiles).
+    pub fn from_toml(text: &str, base_dir: &Path) -> Result<Self> {
+        let mut table: toml::Table = toml::from_str(text).map_err(config_err)?;
+        let sweep_value = table.remove("sweep").ok_or_else(|| {
+            Error::Config(
+                "a sweep configuration needs a [sweep] table (pressures, fluxes, contact_temperatures, samples, seed)".into(),
+            )
+        })?;
+        if table.contains_key("load") {
+            return Err(Error::invalid(
+                "load",
+                "[load]",
+                "no [load] table in a sweep configuration: the loads come from [sweep] pressures, fluxes and contact_temperatures",
+            ));
+        }
+        let sweep: SweepSection = sweep_value
+            .try_into()
+            .map_err(|e: toml::de::Error| Error::Config(format!("[sweep]: {e}")))?;
+        let pressures = sweep.pressures.values("sweep.pressures", "Pa")?;
+        let fluxes = sweep.fluxes.values("sweep.fluxes", "W/m²")?;
+        let contact_temperatures = sweep
+            .contact_temperatures
+            .values("sweep.contact_temperatures", "K")?;
+        if !(1..=1_000_000).contains(&sweep.samples) {
+            return Err(Error::invalid(
+                "sweep.samples",
+                sweep.samples,
+                "an integer in 1..=1000000",
+            ));
+        }
+        if sweep.seed > i64::MAX as u64 {
+            return Err(Error::invalid(
+                "sweep.seed",
+                sweep.seed,
+                "an integer in 0..2^63",
+            ));
+        }
+        let mut case: Case = toml::Value::Table(table)
+            .try_into()
+            .map_err(|e: toml::de::Error| Error::Config(e.to_string()))?;
+        case.base_dir = base_dir.to_path_buf();
+        case.load.pressures = pressures.clone();
+        case.load.flux = fluxes[0];
+        case.load.contact_temperature = contact_temperatures[0];
+        let mut random = false;
+        for (key, s) in [
+            ("surface.upper", &case.surface.upper),
+            ("surface.lower", &case.surface.lower),
+        ] {
+            if let SurfaceSpec::Random(r) = s {
+                random = true;
+                for (name, given) in [("seed", r.seed.is_some()), ("sample", r.sample.is_some())] {
+                    if given {
+                        return Err(Error::invalid(
+                            format!("{key}.{name}"),
+                            "given",
+                            "absent in a sweep: set by [sweep] seed and the sample index",
+                        ));
+                    }
+                }
+            }
+        }
+        if !random && sweep.samples > 1 {
+            return Err(Error::invalid(
+                "sweep.samples",
+                sweep.samples,
+                "1 when no surface is random (deterministic surfaces give identical samples)",
+            ));
+        }
+        case.validate()?;
+        let resolved = resolve(&case, &sweep, &pressures, &fluxes, &contact_temperatures)?;
+        let sha256 = sha256_hex(resolved.as_bytes());
+        Ok(SweepConfig {
+            case,
+            sweep,
+            pressures,
+            fluxes,
+            contact_temperatures,
+            resolved,
+            sha256,
+            source: PathBuf::new(),
+        })
+    }
+
+    /// Whether any surface is random.
+    pub fn is_random(&self) -> bool {
+        matches!(self.case.surface.upper, SurfaceSpec::Random(_))
+            || matches!(self.case.surface.lower, SurfaceSpec::Random(_))
+    }
+
+    /// The case of one path: sample `s`, flux `fluxes[ih]`, temperature
+    /// `contact_temperatures[it]`, all pressures.
+    pub fn path_case(&self, sample: usize, ih: usize, it: usize) -> Case {
+        let mut c = self.case.clone();
+        c.load.flux = self.fluxes[ih];
+        c.load.contact_temperature = self.contact_temperatures[it];
+        for s in [&mut c.surface.upper, &mut c.surface.lower] {
+            if let SurfaceSpec::Random(r) = s {
+                r.seed = Some(self.sweep.seed);
+                r.sample = Some(sample as u64);
+            }
+        }
+        c
+    }
+
+    /// The identification method as written in the case (`homogenization.method`).
+    pub fn identification(&self) -> String {
+        toml::Value::try_from(self.case.homogenization.method)
+            .ok()
+            .and_then(|v| v.as_str().map(str::to_string))
+            .unwrap_or_default()
+    }
+}
+
+/// The canonical TOML of a configuration: the case as parsed (defaults
+/// explicit) without `[load]`, and `[sweep]` with the axes as lists.
+fn resolve(
+    case: &Case,
+    sweep: &SweepSection,
+    pressures: &[f64],
+    fluxes: &[f64],
+    contact_temperatures: &[f64],
+) -> Result<String> {
+    let mut v = toml::Table::try_from(case).map_err(config_err)?;
+    v.remove("load");
+    let s = SweepSection {
+        pressures: AxisSpec::List(pressures.to_vec()),
+        fluxes: AxisSpec::List(fluxes.to_vec()),
+        contact_temperatures: AxisSpec::List(contact_temperatures.to_vec()),
+        samples: sweep.samples,
+        seed: sweep.seed,
+        continuation: sweep.continuation,
+    };
+    v.insert(
+        "sweep".into(),
+        toml::Value::try_from(&s).map_err(config_err)?,
+    );
+    toml::to_string(&v).map_err(config_err)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const BASE: &str = r#"
+[surface.upper]
+kind = "random"
+rms = 5.0e-7
+spectrum = "gaussian"
+correlation_length = 2.0e-6
+[surface.lower]
+kind = "flat"
+[sweep]
+pressures = { from = 1.0e3, to = 1.0e5, count = 3, spacing = "log" }
+fluxes = [1.0e5, 1.0e6]
+contact_temperatures = 293.15
+samples = 2
+seed = 5
+"#;
+
+    #[test]
+    fn axes_resolve_and_the_config_hashes() {
+        let c = SweepConfig::from_toml(BASE, Path::new(".")).unwrap();
+        assert_eq!(c.pressures.len(), 3);
+        assert!((c.pressures[1] - 1e4).abs() < 1e-9);
+        assert_eq!(c.fluxes, vec![1e5, 1e6]);
+        assert_eq!(c.contact_temperatures, vec![293.15]);
+        assert_eq!(c.sha256.len(), 64);
+        // The resolved text is itself a valid sweep config with the same hash.
+        let again = SweepConfig::from_toml(&c.resolved, Path::new(".")).unwrap();
+        assert_eq!(again.resolved, c.resolved);
+        assert_eq!(again.sha256, c.sha256);
+        let p = c.path_case(1, 1, 0);
+        assert_eq!(p.load.flux, 1e6);
+        match p.surface.upper {
+            SurfaceSpec::Random(r) => assert_eq!((r.seed, r.sample), (Some(5), Some(1))),
+            _ => panic!(),
+        }
+        assert_eq!(c.identification(), "two-phase-self-consistent");
+    }
+
+    #[test]
+    fn errors_name_the_key() {
+        for (from, to, key) in [
+            (
+                "fluxes = [1.0e5, 1.0e6]",
+                "fluxes = [1.0e6, 1.0e5]",
+                "sweep.fluxes[1]",
+            ),
+            ("count = 3", "count = 0", "sweep.pressures.count"),
+            ("samples = 2", "samples = 2\nsamplez = 3", "samplez"),
+            (
+                "kind = \"flat\"",
+                "kind = \"flat\"\n[load]\nflux = 1.0",
+                "[load]",
+            ),
+            (
+                "correlation_length = 2.0e-6",
+                "correlation_length = 2.0e-6\nseed = 3",
+                "surface.upper.seed",
+            ),
+            (
+                "contact_temperatures = 293.15",
+                "contact_temperatures = -1.0",
+                "sweep.contact_temperatures[0]",
+            ),
+        ] {
+            let t = BASE.replace(from, to);
+            let e = SweepConfig::from_toml(&t, Path::new("."))
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(key), "{key}: {e}");
+        }
+        let flat = BASE.replace(
+            "kind = \"random\"\nrms = 5.0e-7\nspectrum = \"gaussian\"\ncorrelation_length = 2.0e-6",
+            "kind = \"flat\"",
+        );
+        let e = SweepConfig::from_toml(&flat, Path::new("."))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("sweep.samples"), "{e}");
+        let e = SweepConfig::from_toml("[surface.upper]\nkind = \"flat\"\n", Path::new("."))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("[sweep]"), "{e}");
+    }
+}

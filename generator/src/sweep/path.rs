@@ -1,0 +1,184 @@
+//! One path of a sweep: one sample, flux and contact temperature, all
+//! pressures in increasing order by continuation through
+//! [`PathSolver`](crate::homogenize::path::PathSolver).
+//!
+//! With `[sweep] continuation = false` every pressure is solved from zero
+//! load with a fresh model instead.
+//!
+//! A point that fails is recorded with its reason and the path goes on: the
+//! solver is rebuilt and the next pressure is approached from zero load
+//! (the failed state is not trusted). A panic inside the solver is caught
+//! and recorded as a failure of that point.
+
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::time::Instant;
+
+use crate::homogenize::path::{PathSolver, PointResult, Status};
+use crate::io::table::{PointRecord, PointValues, SampleSurfaces};
+use crate::sample::Case;
+use crate::surface::Surface;
+
+/// What one path produced.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PathOutcome {
+    /// One record per pressure.
+    pub points: Vec<PointRecord>,
+    /// The sample's surface measures (`None` if the surfaces could not be built).
+    pub surfaces: Option<SampleSurfaces>,
+    /// Time in building models (surface fits, meshes, contact set-up) (s).
+    pub setup_seconds: f64,
+    /// Time in the micro-solves (s).
+    pub solve_seconds: f64,
+}
+
+fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
+    p.downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| p.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown panic".into())
+}
+
+/// The table record of a solver result.
+pub fn record(r: &PointResult) -> PointRecord {
+    match &r.status {
+        Status::Converged if r.converged && r.jump.is_finite() => {
+            PointRecord::converged(PointValues {
+                jump: r.jump,
+                conductance: r.conductance,
+                contact_fraction: r.interface.contact_fraction,
+                mean_gap: r.interface.mean_gap,
+                self_consistency_iterations: r.self_consistency_iterations as u32,
+                newton_iterations: r.newton_iterations as u32,
+            })
+        }
+        Status::Converged => PointRecord::failed(format!(
+            "the solver reported convergence with a non-finite jump ({})",
+            r.jump
+        )),
+        Status::Failed(m) => PointRecord::failed(m.clone()),
+    }
+}
+
+/// RMS of a periodic surface over one period, from 4096 samples (exact for
+/// trigonometric polynomials of fewer than 2048 modes).
+pub fn surface_rms(s: &dyn Surface, width: f64) -> f64 {
+    let n = 4096;
+    let (mut sum, mut sq) = (0.0, 0.0);
+    for i in 0..n {
+        let z = s.height(width * i as f64 / n as f64);
+        sum += z;
+        sq += z * z;
+    }
+    let mean = sum / n as f64;
+    (sq / n as f64 - mean * mean).max(0.0).sqrt()
+}
+
+/// The surface measures of a case's sample: RMS and NURBS fit errors at the
+/// case's discretization (`None` if a surface fails to build).
+pub fn sample_surfaces(case: &Case) -> Option<SampleSurfaces> {
+    let w = case.sample.width;
+    let up = case
+        .surface
+        .upper
+        .build("surface.upper", w, &case.base_dir)
+        .ok()?;
+    let lo = case
+        .surface
+        .lower
+        .build("surface.lower", w, &case.base_dir)
+        .ok()?;
+    let geo = crate::sample::micro::sample_geometry(case, up.as_ref(), lo.as_ref());
+    Some(SampleSurfaces {
+        upper_rms: surface_rms(up.as_ref(), w),
+        lower_rms: surface_rms(lo.as_ref(), w),
+        upper_fit_error: geo.fit_upper.max_error,
+        lower_fit_error: geo.fit_lower.max_error,
+    })
+}
+
+/// Solves every pressure of `case.load.pressures` for the case's flux and
+/// contact temperature, by continuation (or each from zero load with a fresh
+/// model if `continuation` is false); `on_point` sees every record as it is made.
+pub fn solve_path(
+    case: &Case,
+    continuation: bool,
+    on_point: &(dyn Fn(&PointRecord) + Sync),
+) -> PathOutcome {
+    let t = Instant::now();
+    let surfaces = catch_unwind(AssertUnwindSafe(|| sample_surfaces(case)))
+        .ok()
+        .flatten();
+    let mut out = PathOutcome {
+        points: Vec::with_capacity(case.load.pressures.len()),
+        surfaces,
+        setup_seconds: t.elapsed().as_secs_f64(),
+        solve_seconds: 0.0,
+    };
+    let mut solver: Option<PathSolver> = None;
+    for &p in &case.load.pressures {
+        if solver.is_none() {
+            let t = Instant::now();
+            let built = catch_unwind(AssertUnwindSafe(|| PathSolver::new(case)));
+            out.setup_seconds += t.elapsed().as_secs_f64();
+            match built {
+                Ok(Ok(s)) => solver = Some(s),
+                Ok(Err(e)) => {
+                    let r = PointRecord::failed(format!("set-up failed: {e}"));
+                    on_point(&r);
+                    out.points.push(r);
+                    continue;
+                }
+                Err(panic) => {
+                    let r = PointRecord::failed(format!(
+                        "set-up failed: internal error (panic): {}",
+                        panic_message(panic.as_ref())
+                    ));
+                    on_point(&r);
+                    out.points.push(r);
+                    continue;
+                }
+            }
+        }
+        let s = solver.as_mut().expect("built above");
+        let t = Instant::now();
+        let result = catch_unwind(AssertUnwindSafe(|| s.solve_pressure(p)));
+        out.solve_seconds += t.elapsed().as_secs_f64();
+        let r = match result {
+            Ok(Ok(r)) => record(&r),
+            Ok(Err(e)) => PointRecord::failed(e.to_string()),
+            Err(panic) => PointRecord::failed(format!(
+                "internal error (panic): {}",
+                panic_message(panic.as_ref())
+            )),
+        };
+        if r.values.is_none() || !continuation {
+            // Never continue from a failed state: the next pressure starts afresh.
+            solver = None;
+        }
+        on_point(&r);
+        out.points.push(r);
+    }
+    out
+}
+
+/// Hook for the flux-sharing solver: solves the paths of one sample and
+/// contact temperature for several fluxes (`cases[j]` differ only in
+/// `load.flux`). Today one [`PathSolver`] per flux; when
+/// `PathSolver::solve_pressure_fluxes(p, &fluxes)` is available, one solver
+/// per group reuses the mechanical phase and the thermal factorization
+/// across the fluxes (same results), and [`FLUX_GROUPS`] becomes `true`.
+pub fn solve_flux_group(
+    cases: &[Case],
+    continuation: bool,
+    on_point: &(dyn Fn(&PointRecord) + Sync),
+) -> Vec<PathOutcome> {
+    cases
+        .iter()
+        .map(|c| solve_path(c, continuation, on_point))
+        .collect()
+}
+
+/// Whether the scheduler groups the paths of one (sample, contact
+/// temperature) into one task (see [`solve_flux_group`]); `false` while each
+/// flux needs its own solver, so that the paths spread over the threads.
+pub const FLUX_GROUPS: bool = false;
