@@ -912,7 +912,7 @@ impl NonlinearProblem for Model {
     }
 
     fn load_norms(&self) -> Vec<f64> {
-        let mut s = vec![0.0; 4];
+        let mut s = [0.0; 4];
         for (v, &c) in self.external().iter().zip(&self.eq_class) {
             s[c] += v * v;
         }
