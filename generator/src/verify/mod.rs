@@ -10,6 +10,7 @@ use serde::Serialize;
 use crate::Result;
 
 pub mod bulk;
+pub mod contact;
 pub mod homogenization;
 pub mod mms;
 
@@ -119,6 +120,7 @@ pub fn catalogue() -> Vec<Case> {
     let mut v = Vec::new();
     v.extend(mms::cases());
     v.extend(bulk::cases());
+    v.extend(contact::cases());
     v.extend(homogenization::cases());
     v
 }

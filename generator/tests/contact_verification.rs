@@ -1,0 +1,216 @@
+//! The contact verification catalogue (issue 3; spec §10.2–10.5; paper
+//! Sects. 5.1, 5.2, 5.7): every test runs the case function that
+//! `tcgen verify` prints and asserts that each of its checks passes.
+//!
+//! The default tests use the catalogue's meshes (about 40 s in release on
+//! 2 cores). The tests named `long_*` refine them (Hertz with p = 2 and 3 on
+//! coarse and fine meshes, Westergaard and the strips on 64 and 128 elements
+//! with Richardson extrapolation, the Sect. 5.7 path on the full meshes of
+//! `tables/sinusoid_on_flat.toml` for p = 2, 3 with LN and PR sides, the
+//! quadrature study of the non-nested patch tests); they run only with
+//! `TCGEN_LONG_TESTS=1` (about 10 minutes) and return early otherwise.
+
+use tcgen::sample::case::LateralCondition;
+use tcgen::verify::contact::hertz::HertzSetup;
+use tcgen::verify::contact::patch::{Interface, PatchSetup, mortar_al, thermal_patch};
+use tcgen::verify::contact::wavy::{WESTERGAARD_LEVELS, WavySample, richardson_checks, wavy_rows};
+use tcgen::verify::contact::{self, HertzTolerances, PATCH_FLUX};
+use tcgen::verify::{Check, format_table};
+
+fn assert_pass(checks: &[Check]) {
+    print!("{}", format_table(checks));
+    let failed: Vec<&Check> = checks.iter().filter(|c| !c.pass).collect();
+    assert!(
+        failed.is_empty(),
+        "failed checks:\n{}",
+        format_table(
+            &checks
+                .iter()
+                .filter(|c| !c.pass)
+                .cloned()
+                .collect::<Vec<_>>()
+        )
+    );
+    assert!(!checks.is_empty());
+}
+
+fn long() -> bool {
+    std::env::var("TCGEN_LONG_TESTS").is_ok_and(|v| v == "1")
+}
+
+#[test]
+fn thermal_patch_flat() {
+    assert_pass(&contact::thermal_patch_flat().unwrap());
+}
+
+#[test]
+fn thermal_patch_curved() {
+    assert_pass(&contact::thermal_patch_curved().unwrap());
+}
+
+#[test]
+fn mechanical_patch() {
+    assert_pass(&contact::mechanical_patch().unwrap());
+}
+
+#[test]
+fn hertz_p2_coarse() {
+    assert_pass(&contact::hertz_default().unwrap());
+}
+
+#[test]
+fn westergaard_and_constriction() {
+    assert_pass(&contact::wavy_case(&contact::wavy_default_sample()).unwrap());
+}
+
+#[test]
+fn robustness_half_mesh() {
+    assert_pass(&contact::robustness_default().unwrap());
+}
+
+#[test]
+fn determinism_across_thread_counts() {
+    assert_pass(&contact::determinism().unwrap());
+}
+
+/// Hertz with p = 2 fine and p = 3 coarse and fine (`TCGEN_LONG_TESTS=1`).
+#[test]
+fn long_hertz() {
+    if !long() {
+        return;
+    }
+    let mut checks = Vec::new();
+    for (degree, fine, tol) in [
+        (
+            2,
+            true,
+            HertzTolerances {
+                half_width: 0.03,
+                pressure: 0.02,
+                cumulative: 0.05,
+            },
+        ),
+        (
+            3,
+            false,
+            HertzTolerances {
+                half_width: 0.07,
+                pressure: 0.3,
+                cumulative: 0.1,
+            },
+        ),
+        (
+            3,
+            true,
+            HertzTolerances {
+                half_width: 0.03,
+                pressure: 0.02,
+                cumulative: 0.03,
+            },
+        ),
+    ] {
+        checks.extend(contact::hertz_checks(&HertzSetup::new(degree, fine), tol).unwrap());
+    }
+    assert_pass(&checks);
+}
+
+/// Westergaard and the strips on 64 and 128 elements, and the Richardson
+/// extrapolation of the contact fraction within 2 % (`TCGEN_LONG_TESTS=1`).
+#[test]
+fn long_westergaard_richardson() {
+    if !long() {
+        return;
+    }
+    let sample = |n: usize| WavySample {
+        elements_x: [n, n * 7 / 8],
+        ..WavySample::default()
+    };
+    let (s64, s128) = (sample(64), sample(128));
+    let coarse = wavy_rows(&s64, &WESTERGAARD_LEVELS).unwrap();
+    let fine = wavy_rows(&s128, &WESTERGAARD_LEVELS).unwrap();
+    let mut checks = richardson_checks("westergaard_richardson_64_128", &coarse, &fine, 0.02);
+    checks.extend(tcgen::verify::contact::wavy::westergaard_checks(
+        "westergaard_128",
+        &s128,
+        &fine,
+        0.75,
+    ));
+    checks.extend(tcgen::verify::contact::wavy::constriction_checks(
+        "constriction_128",
+        &s128,
+        &fine,
+        0.01,
+        0.75,
+    ));
+    assert_pass(&checks);
+}
+
+/// The Sect. 5.7 sinusoid on the meshes of `tables/sinusoid_on_flat.toml`
+/// for p = 2, 3 with LN and PR sides (`TCGEN_LONG_TESTS=1`).
+#[test]
+fn long_robustness_full_mesh() {
+    if !long() {
+        return;
+    }
+    let mut checks = Vec::new();
+    for degree in [2, 3] {
+        for lateral in [LateralCondition::Periodic, LateralCondition::Linear] {
+            let (c, path) =
+                contact::robustness_checks(degree, lateral, [32, 16], [27, 14]).unwrap();
+            for p in &path {
+                println!(
+                    "p={degree} {lateral:?}: {:.3e} Pa, contact {:.4}, its {:?}, steps {}, cutbacks {}",
+                    p.pressure, p.contact_fraction, p.iterations, p.steps, p.cutbacks
+                );
+            }
+            checks.extend(c);
+        }
+    }
+    assert_pass(&checks);
+}
+
+/// The non-nested patch tests converge with the interface quadrature:
+/// element-based integration is the only error (`TCGEN_LONG_TESTS=1`).
+#[test]
+fn long_patch_quadrature_study() {
+    if !long() {
+        return;
+    }
+    let mut checks = Vec::new();
+    for interface in [Interface::Flat, Interface::Curved] {
+        let mut last = f64::INFINITY;
+        for points in [8, 16, 32] {
+            let mut s = mortar_al();
+            s.interface_points = points;
+            let r = thermal_patch(&PatchSetup::new(interface), &s, PATCH_FLUX).unwrap();
+            checks.push(Check::with_error(
+                &format!("patch_quadrature_{interface:?}"),
+                &format!("flux dev. with {points} pts < previous"),
+                r.flux_deviation,
+                last,
+                r.flux_deviation / last,
+                1.0,
+            ));
+            last = r.flux_deviation;
+        }
+    }
+    let mut last = f64::INFINITY;
+    for points in [8, 16, 32, 64] {
+        let r = tcgen::verify::contact::patch::mechanical_patch(
+            &PatchSetup::new(Interface::Flat),
+            1.0e4,
+            points,
+        )
+        .unwrap();
+        checks.push(Check::with_error(
+            "patch_quadrature_mechanical",
+            &format!("pressure dev. with {points} pts < previous"),
+            r.pressure_deviation,
+            last,
+            r.pressure_deviation / last,
+            1.0,
+        ));
+        last = r.pressure_deviation;
+    }
+    assert_pass(&checks);
+}
