@@ -152,5 +152,5 @@ pub fn solve_with_threads(case: &Case, threads: usize) -> Result<Vec<PointResult
         .num_threads(threads)
         .build()
         .map_err(|e| Error::Config(format!("rayon pool of {threads} threads: {e}")))?;
-    pool.install(|| solve_case(case, |_| {}))
+    pool.install(|| solve_case(case, None, |_| {}))
 }
