@@ -123,7 +123,9 @@ mod tests {
         assert_eq!(m.points, whole.points);
         assert_eq!(m.statistics(), whole.statistics());
         assert!(m.info.shard.is_none());
-        let e = merge_tables(std::slice::from_ref(&s0)).unwrap_err().to_string();
+        let e = merge_tables(std::slice::from_ref(&s0))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("missing shard(s) 1/2"), "{e}");
         let e = merge_tables(&[s0.clone(), s0]).unwrap_err().to_string();
         assert!(e.contains("twice"), "{e}");
