@@ -1,7 +1,11 @@
 #!/usr/bin/env bash
-# The project's test command (README "Set-up", and .ci/run).
-# Runs the Rust test suite of the whole workspace in release mode.
+# The project's test command (README "Set-up", and .ci/run):
+#   1. the Rust test suite of the whole workspace, release mode;
+#   2. the Python table tests (xarray, h5py, netCDF4 read the demo table):
+#      tests/python/run.sh creates its own virtual environment (pinned
+#      requirements from PyPI), builds the demo table and runs pytest.
 # Long validation runs are opt-in: TCGEN_LONG_TESTS=1 tests/run.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo test --release --workspace
+tests/python/run.sh

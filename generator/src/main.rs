@@ -36,6 +36,10 @@ enum Command {
         /// Print one JSON object per pressure instead of a table.
         #[arg(long)]
         json: bool,
+        /// Write ParaView files (deformed bodies with displacement, temperature,
+        /// Cauchy stress, heat flux; the interface with pressure and flux) into DIR.
+        #[arg(long, value_name = "DIR")]
+        vtk: Option<std::path::PathBuf>,
     },
     /// Build a table of the macroscopic jump over pressure × flux × contact temperature × samples.
     ///
@@ -409,7 +413,7 @@ fn verify(json: bool, filter: Option<String>, list: bool) -> ExitCode {
     }
 }
 
-fn solve(path: &std::path::Path, json: bool) -> ExitCode {
+fn solve(path: &std::path::Path, json: bool, vtk: Option<std::path::PathBuf>) -> ExitCode {
     let case = match tcgen::sample::Case::read(path) {
         Ok(c) => c,
         Err(e) => {
@@ -431,7 +435,7 @@ fn solve(path: &std::path::Path, json: bool) -> ExitCode {
         );
     }
     let t = std::time::Instant::now();
-    let result = tcgen::homogenize::solve_case(&case, |r| {
+    let result = tcgen::homogenize::solve_case(&case, vtk, |r| {
         if json {
             println!("{}", serde_json::to_string(r).expect("serializable"));
         } else {
@@ -478,7 +482,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
         Command::Verify { json, filter, list } => verify(json, filter, list),
-        Command::Solve { case, json } => solve(&case, json),
+        Command::Solve { case, json, vtk } => solve(&case, json, vtk),
         Command::Sweep {
             config,
             output,

@@ -1,24 +1,9 @@
 //! The bulk verification catalogue (spec §10.1, issue 2): every check that
 //! `tcgen verify` prints for these cases must pass.
 
-use tcgen::verify::{Case, catalogue, format_table};
-
 fn run(prefix: &str) {
-    let cases: Vec<Case> = catalogue()
-        .into_iter()
-        .filter(|c| c.name.starts_with(prefix))
-        .collect();
-    assert!(!cases.is_empty(), "no case named {prefix}*");
-    for c in cases {
-        let checks = (c.run)().unwrap_or_else(|e| panic!("{}: {e}", c.name));
-        assert!(!checks.is_empty(), "{} produced no checks", c.name);
-        let failed: Vec<_> = checks.iter().filter(|c| !c.pass).cloned().collect();
-        assert!(
-            failed.is_empty(),
-            "{} failed:\n{}",
-            c.name,
-            format_table(&failed)
-        );
+    if let Err(report) = tcgen::verify::run_selected(|n| n.starts_with(prefix)) {
+        panic!("{prefix}:\n{report}");
     }
 }
 
@@ -44,6 +29,12 @@ fn newton_converges_quadratically() {
 #[test]
 fn platen_compression_matches_closed_form() {
     run("platen_compression");
+}
+
+/// Homogeneous compression under a uniform dead traction matches the closed form.
+#[test]
+fn traction_compression_matches_closed_form() {
+    run("traction_compression");
 }
 
 /// The accompanying bar problem (frozen and coupled) matches its closed forms.

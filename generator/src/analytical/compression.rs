@@ -245,31 +245,10 @@ pub fn bar_top_temperature(
     bar_temperature(m, stretch, theta_bottom, flux, height)
 }
 
-/// Gauss–Legendre nodes and weights on `[−1, 1]` (Newton on `P_n`).
+/// Gauss–Legendre nodes and weights on `[−1, 1]` (the crate's rule).
 fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
-    let mut nodes = vec![0.0; n];
-    let mut weights = vec![0.0; n];
-    for i in 0..n {
-        let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
-        let mut dp = 0.0;
-        for _ in 0..100 {
-            let (mut p0, mut p1) = (1.0, x);
-            for k in 2..=n {
-                let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
-                p0 = p1;
-                p1 = p2;
-            }
-            dp = n as f64 * (x * p1 - p0) / (x * x - 1.0);
-            let dx = p1 / dp;
-            x -= dx;
-            if dx.abs() < 1e-16 {
-                break;
-            }
-        }
-        nodes[i] = x;
-        weights[i] = 2.0 / ((1.0 - x * x) * dp * dp);
-    }
-    (nodes, weights)
+    let g = crate::quadrature::GaussLegendre::new(n);
+    (g.points, g.weights)
 }
 
 /// Height `Y(θ) = ∫_{θ_b}^{θ} k(t) / (h λ(p, t)) dt` at which the fully coupled bar

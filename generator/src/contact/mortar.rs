@@ -92,7 +92,6 @@ pub struct ContactInterface {
     /// Period of the master (PR conditions), scaled.
     pub period: Option<f64>,
     normal_sign: f64,
-    normal_up: bool,
     /// Mechanical penalty εN (scaled).
     pub eps_n: f64,
     /// Thermal penalty εθ (scaled).
@@ -213,7 +212,6 @@ impl ContactInterface {
             owner,
             period,
             normal_sign,
-            normal_up: nrm[1] > 0.0,
             eps_n,
             eps_t,
             state: Vec::new(),
@@ -223,11 +221,6 @@ impl ContactInterface {
             frozen: None,
             band: vec![BTreeSet::new(); n_s],
         })
-    }
-
-    /// Whether the master's outward normal points in +y (master below the slave).
-    pub fn normal_points_up(&self) -> bool {
-        self.normal_up
     }
 
     /// Number of slave control points (= multipliers per family).
@@ -444,6 +437,29 @@ impl ContactInterface {
         self.lambda_n[i] - self.eps_n * self.weighted_gap(i)
     }
 
+    /// Lumped interface heat flux into the slave `h0^I` (scaled), as the
+    /// thermal contact model defines it at the current state; zero outside
+    /// the active set.
+    pub fn heat_flux(&self, i: usize) -> f64 {
+        if !self.is_active(i) {
+            return 0.0;
+        }
+        let gamma = self.weighted_jump(i);
+        match self.settings.thermal {
+            ThermalContact::Constraint {
+                enforcement: ThermalEnforcement::AugmentedLagrangian,
+                ..
+            } if self.settings.thermal_method == ThermalMethod::Mortar => {
+                self.lambda_t[i] - self.eps_t * gamma
+            }
+            ThermalContact::Constraint { .. } => -self.eps_t * gamma,
+            ThermalContact::Constitutive {
+                conductance_coefficient: kt,
+                pressure_exponent: a,
+            } => -kt * self.pressure(i).max(0.0).powf(a) * gamma,
+        }
+    }
+
     /// Whether slave node `i` is in the mechanical active set.
     pub fn is_active(&self, i: usize) -> bool {
         match &self.frozen {
@@ -454,9 +470,9 @@ impl ContactInterface {
 
     /// Freezes pressures and the active set (the thermal phase on a frozen configuration).
     pub fn freeze(&mut self) {
-        let p: Vec<f64> = (0..self.n_slave())
-            .map(|i| self.pressure(i).max(0.0))
-            .collect();
+        // Unclamped: outside the active set the indicator is −εN g (a gap), which
+        // the contact-fraction measurement interpolates; physics clamps at 0.
+        let p: Vec<f64> = (0..self.n_slave()).map(|i| self.pressure(i)).collect();
         let a: Vec<bool> = (0..self.n_slave()).map(|i| self.is_active(i)).collect();
         self.frozen = Some((p, a));
     }
@@ -669,7 +685,10 @@ impl ContactInterface {
             .zip(&sp.basis)
             .map(|(&c, n)| n * self.pressure(c).max(0.0))
             .sum();
-        if pn <= 0.0 {
+        // In contact where a slave control point of the element is active
+        // (for positive pressures the same as `pn > 0`; it also holds at
+        // zero pressure, e.g. a frozen active set).
+        if !sp.conn.iter().any(|&c| self.is_active(c)) {
             return;
         }
         let c = match self.settings.thermal {

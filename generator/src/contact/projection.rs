@@ -58,6 +58,51 @@ fn newton(curve: &NurbsPatch, x: [f64; 2], eta0: f64, lo: f64, hi: f64) -> (f64,
     (eta, clamped, d2)
 }
 
+/// Newton on the periodic extension of the master: `x_m(η + k·L) = x_m(η) + k·W`
+/// (`L` the parameter range, `W` the period), so a projection may cross the
+/// seam freely. Returns `(η ∈ [lo, hi), shift, distance²)`.
+fn newton_periodic(
+    curve: &NurbsPatch,
+    x: [f64; 2],
+    eta0: f64,
+    lo: f64,
+    hi: f64,
+    w: f64,
+) -> (f64, f64, f64) {
+    let range = hi - lo;
+    let wrap = |e: f64| -> (f64, f64) {
+        let k = ((e - lo) / range).floor();
+        let mut r = e - k * range;
+        if r >= hi {
+            r = lo;
+        }
+        (r, k * w)
+    };
+    let mut eta = eta0;
+    for _ in 0..60 {
+        let (e, shift) = wrap(eta);
+        let d = curve.curve_derivatives(e, 2);
+        let r = [x[0] - d[0][0] - shift, x[1] - d[0][1]];
+        let phi = r[0] * d[1][0] + r[1] * d[1][1];
+        let t2 = d[1][0] * d[1][0] + d[1][1] * d[1][1];
+        let dphi = -t2 + r[0] * d[2][0] + r[1] * d[2][1];
+        let mut step = if dphi < 0.0 { -phi / dphi } else { phi / t2 };
+        // Limit a step to one element-sized fraction of the range.
+        step = step.clamp(-0.25 * range, 0.25 * range);
+        eta += step;
+        if step.abs() < 1e-15 * range {
+            break;
+        }
+    }
+    let (e, shift) = wrap(eta);
+    let c = curve.point(&[e]);
+    (
+        e,
+        shift,
+        (x[0] - c[0] - shift).powi(2) + (x[1] - c[1]).powi(2),
+    )
+}
+
 /// Points of the master curve at 4 parameters per element: the candidates
 /// for the starting guesses of the projections (computed once per evaluation).
 pub struct MasterSamples {
@@ -107,7 +152,6 @@ pub fn project(
         if let Some(g) = guess {
             starts.push(g);
         }
-        // The nearest samples.
         // The two nearest samples.
         let (mut b1, mut b2) = ((f64::INFINITY, lo), (f64::INFINITY, lo));
         for &(t, c) in &samples.samples {
@@ -122,20 +166,33 @@ pub fn project(
         starts.push(b1.1);
         starts.push(b2.1);
         for s in starts {
-            let (eta, clamped, d2) = newton(curve, xs, s, lo, hi);
-            // With a periodic master an end is not an edge: the neighbouring image covers it.
-            if period.is_some() && clamped {
-                continue;
-            }
-            let cand = Projection {
-                eta,
-                shift,
-                clamped,
-                distance: d2.sqrt(),
+            let cand = match period {
+                Some(w) => {
+                    let (eta, extra, d2) = newton_periodic(curve, xs, s, lo, hi, w);
+                    Projection {
+                        eta,
+                        shift: shift + extra,
+                        clamped: false,
+                        distance: d2.sqrt(),
+                    }
+                }
+                None => {
+                    let (eta, clamped, d2) = newton(curve, xs, s, lo, hi);
+                    Projection {
+                        eta,
+                        shift,
+                        clamped,
+                        distance: d2.sqrt(),
+                    }
+                }
             };
             if best.is_none_or(|b| cand.distance < b.distance - 1e-14) {
                 best = Some(cand);
             }
+        }
+        if period.is_some() {
+            // The periodic Newton reaches every image from the first shift.
+            break;
         }
     }
     best.ok_or_else(|| {

@@ -59,7 +59,8 @@ pub struct PointResult {
 }
 
 impl PointResult {
-    fn failed(case: &Case, pressure: f64, reason: String) -> Self {
+    /// A failed point (values NaN, `converged = false`).
+    pub fn failed(case: &Case, pressure: f64, reason: String) -> Self {
         PointResult {
             pressure,
             flux: case.load.flux,
@@ -89,7 +90,8 @@ pub struct PathSolver<'a> {
     alpha: f64,
     /// Sample geometry (fits, `g0`).
     pub geometry: SampleGeometry,
-    last_interface: Option<InterfaceMeasures>,
+    vtk: Option<std::path::PathBuf>,
+    points: usize,
 }
 
 impl<'a> PathSolver<'a> {
@@ -110,9 +112,10 @@ impl<'a> PathSolver<'a> {
             Method::Coupled | Method::Linearized => Coupling::Coupled,
             Method::TwoPhase | Method::TwoPhaseSelfConsistent => Coupling::Mechanical,
         };
+        // Nominal flux 1 W/m²: the thermal load multiplier is the flux itself.
         let bc = ThermalBc {
             master_face_temperature: theta_c,
-            flux: case.load.flux,
+            flux: 1.0,
         };
         let model = build_model(case, &geometry, (&materials.0, &materials.1), bc, coupling)?;
         let alpha = match case.contact.thermal {
@@ -129,7 +132,8 @@ impl<'a> PathSolver<'a> {
             last_pressure: 0.0,
             alpha,
             geometry,
-            last_interface: None,
+            vtk: None,
+            points: 0,
         })
     }
 
@@ -147,117 +151,59 @@ impl<'a> PathSolver<'a> {
         }
     }
 
-    /// Newton from the current state to the loads `to` = [pressure (Pa), flux multiplier].
+    /// Newton from the current state to the loads `to` = [pressure (Pa), flux (W/m²)].
     fn drive(&mut self, from: [f64; 2], to: [f64; 2]) -> Result<usize> {
+        if std::env::var_os("TCGEN_TRACE").is_some() {
+            eprintln!(
+                "drive {from:?} -> {to:?} ({:?} phase)",
+                self.model.coupling()
+            );
+        }
         self.model.set_path(from, to);
         let h = self.newton.solve(&mut self.model)?;
         Ok(h.total_iterations())
     }
 
-    /// Solves the next pressure of the path.
-    pub fn solve_pressure(&mut self, pressure: f64) -> Result<PointResult> {
-        let case = self.case;
-        let method = case.homogenization.method;
-        let flux = case.load.flux;
-        let theta_c = case.load.contact_temperature;
-        let h0 = case.sample.height;
-        let (mu, ml) = (self.materials.0.clone(), self.materials.1.clone());
-        let (mface, sface) = (self.master_face(), self.slave_face());
-        let slave = slave_body(case);
-        let mut iterations = 0;
-        let p0 = self.last_pressure;
-        let (abp, theta_s, sc_iters) = match method {
-            Method::Coupled | Method::Linearized => {
-                let abp = accompanying_bar(
-                    &mu,
-                    &ml,
-                    pressure,
-                    flux,
-                    theta_c,
-                    h0,
-                    AbpProperties::Coupled,
-                )?;
-                let tm = if mface.0 == UPPER {
-                    abp.upper
-                } else {
-                    abp.lower
-                };
-                self.model.prescribe_face(mface.0, 1, mface.1, 2, tm);
-                let start = if p0 == 0.0 { [0.0, 0.0] } else { [p0, 1.0] };
-                iterations += self.drive(start, [pressure, 1.0])?;
-                (
-                    abp,
-                    self.model.face_mean_temperature(sface.0, 1, sface.1),
-                    0,
-                )
-            }
-            Method::TwoPhase | Method::TwoPhaseSelfConsistent => {
-                let self_consistent = method == Method::TwoPhaseSelfConsistent;
-                let max_it = if self_consistent {
-                    case.homogenization.max_iterations
-                } else {
-                    1
-                };
-                let mut jump = 0.0;
-                let mut last = None;
-                let mut converged = !self_consistent;
-                let mut k = 0;
-                while k < max_it {
-                    k += 1;
-                    // Slave properties at θ̄ = θ̄c + ϑ̄c (first-order corrector), master at θ̄c.
-                    let t_slave = theta_c + jump;
-                    let temps = if slave == UPPER {
-                        [t_slave, theta_c]
-                    } else {
-                        [theta_c, t_slave]
-                    };
-                    self.model.set_frozen_temperature(UPPER, temps[0]);
-                    self.model.set_frozen_temperature(LOWER, temps[1]);
-                    // The first iteration moves along the pressure path; the
-                    // next ones only change the slave's temperature at `p`.
-                    let from = if k == 1 { p0 } else { pressure };
-                    iterations += self.drive([from, 0.0], [pressure, 0.0])?;
-                    let (abp, ts, it) = self.thermal_phase(pressure, temps)?;
-                    iterations += it;
-                    let new_jump = ts - if slave == UPPER { abp.upper } else { abp.lower };
-                    last = Some((abp, ts));
-                    let change = (new_jump - jump).abs();
-                    jump = new_jump;
-                    if self_consistent
-                        && change <= case.homogenization.tolerance * jump.abs().max(1e-12 * theta_c)
-                    {
-                        converged = true;
-                        break;
-                    }
-                }
-                self.last_pressure = pressure;
-                let (abp, ts) = last.expect("at least one two-phase iteration");
-                if !converged {
-                    return Err(Error::NewtonDiverged {
-                        step: k,
-                        load_factor: 1.0,
-                        iterations: k,
-                        reason: format!("self-consistency did not converge in {max_it} iterations"),
-                    });
-                }
-                (abp, ts, if self_consistent { k } else { 0 })
-            }
-        };
-        self.last_pressure = pressure;
-        let theta_abp_slave = if slave == UPPER { abp.upper } else { abp.lower };
-        let jump = match method {
-            Method::Coupled => (theta_s / theta_abp_slave - 1.0) * theta_c,
-            _ => theta_s - theta_abp_slave,
+    /// Writes ParaView files of every solved point into `dir` (`p000_*.vtk`, ...).
+    pub fn set_vtk(&mut self, dir: std::path::PathBuf) {
+        self.vtk = Some(dir);
+    }
+
+    fn slave_abp(&self, abp: &AbpTemperatures) -> f64 {
+        if slave_body(self.case) == UPPER {
+            abp.upper
+        } else {
+            abp.lower
         }
-        .abs();
-        let interface = self
-            .last_interface
-            .take()
-            .map_or_else(|| measure(&self.model, self.alpha), Ok)?;
-        Ok(PointResult {
+    }
+
+    /// The jump magnitude by the case's identification from `θ(I)` and the ABP.
+    fn identify(&self, theta_s: f64, abp: &AbpTemperatures) -> f64 {
+        let theta_c = self.case.load.contact_temperature;
+        let t_abp = self.slave_abp(abp);
+        match self.case.homogenization.method {
+            Method::Coupled => (theta_s / t_abp - 1.0) * theta_c,
+            _ => theta_s - t_abp,
+        }
+        .abs()
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn result(
+        &self,
+        pressure: f64,
+        flux: f64,
+        jump: f64,
+        theta_s: f64,
+        abp: AbpTemperatures,
+        interface: InterfaceMeasures,
+        sc: usize,
+        newton: usize,
+    ) -> PointResult {
+        PointResult {
             pressure,
             flux,
-            contact_temperature: theta_c,
+            contact_temperature: self.case.load.contact_temperature,
             jump,
             conductance: if jump > 0.0 {
                 flux / jump
@@ -268,28 +214,219 @@ impl<'a> PathSolver<'a> {
             theta_abp_upper: abp.upper,
             theta_abp_lower: abp.lower,
             interface,
-            self_consistency_iterations: sc_iters,
-            newton_iterations: iterations,
+            self_consistency_iterations: sc,
+            newton_iterations: newton,
             converged: true,
             status: Status::Converged,
-        })
+        }
+    }
+
+    /// Solves the next pressure of the path at the case's flux.
+    pub fn solve_pressure(&mut self, pressure: f64) -> Result<PointResult> {
+        let flux = self.case.load.flux;
+        match self.case.homogenization.method {
+            Method::Coupled | Method::Linearized => self.solve_coupled(pressure),
+            _ => {
+                let mut r = self.solve_pressure_fluxes(pressure, &[flux])?;
+                let r = r.pop().expect("one flux");
+                match &r.status {
+                    Status::Converged => Ok(r),
+                    Status::Failed(m) => Err(Error::NewtonDiverged {
+                        step: 0,
+                        load_factor: 1.0,
+                        iterations: r.newton_iterations,
+                        reason: m.clone(),
+                    }),
+                }
+            }
+        }
+    }
+
+    fn solve_coupled(&mut self, pressure: f64) -> Result<PointResult> {
+        let case = self.case;
+        let (flux, theta_c, h0) = (
+            case.load.flux,
+            case.load.contact_temperature,
+            case.sample.height,
+        );
+        let (mface, sface) = (self.master_face(), self.slave_face());
+        let abp = accompanying_bar(
+            &self.materials.0,
+            &self.materials.1,
+            pressure,
+            flux,
+            theta_c,
+            h0,
+            AbpProperties::Coupled,
+        )?;
+        let tm = if mface.0 == UPPER {
+            abp.upper
+        } else {
+            abp.lower
+        };
+        self.model.prescribe_face(mface.0, 1, mface.1, 2, tm);
+        let p0 = self.last_pressure;
+        let start = if p0 == 0.0 { [0.0, 0.0] } else { [p0, flux] };
+        let it = self.drive(start, [pressure, flux])?;
+        self.last_pressure = pressure;
+        let ts = self.model.face_mean_temperature(sface.0, 1, sface.1);
+        if let Some(dir) = &self.vtk {
+            crate::sample::vtk::write_model(&self.model, dir, &format!("p{:03}", self.points))?;
+        }
+        self.points += 1;
+        let interface = measure(&self.model, self.alpha)?;
+        Ok(self.result(
+            pressure,
+            flux,
+            self.identify(ts, &abp),
+            ts,
+            abp,
+            interface,
+            0,
+            it,
+        ))
+    }
+
+    /// Two-phase (self-consistent) jumps at one pressure for several fluxes
+    /// (W/m², > 0). The mechanical phase at θ̄c and the first thermal phase
+    /// are shared by all fluxes: with every property frozen the thermal phase
+    /// is linear in `h̄`, so its solution for a unit flux scales exactly. Each
+    /// flux then runs its own self-consistency iterations from that state.
+    /// A flux whose iterations fail is reported as failed; the others go on.
+    pub fn solve_pressure_fluxes(
+        &mut self,
+        pressure: f64,
+        fluxes: &[f64],
+    ) -> Result<Vec<PointResult>> {
+        let case = self.case;
+        let self_consistent = case.homogenization.method == Method::TwoPhaseSelfConsistent;
+        if matches!(
+            case.homogenization.method,
+            Method::Coupled | Method::Linearized
+        ) {
+            return Err(Error::invalid(
+                "homogenization.method",
+                "coupled/linearized",
+                "a two-phase method for multi-flux solves",
+            ));
+        }
+        if let Some(h) = fluxes.iter().find(|h| !(h.is_finite() && **h > 0.0)) {
+            return Err(Error::invalid("flux", h, "a finite flux > 0 (W/m²)"));
+        }
+        let theta_c = case.load.contact_temperature;
+        let slave = slave_body(case);
+        // Mechanical phase at θ̄c along the pressure path.
+        self.model.set_frozen_temperature(UPPER, theta_c);
+        self.model.set_frozen_temperature(LOWER, theta_c);
+        let p0 = self.last_pressure;
+        let base_it = self.drive([p0, 0.0], [pressure, 0.0])?;
+        self.last_pressure = pressure;
+        let base = self.model.save();
+        // First thermal phase at unit flux.
+        let (abp1, ts1, it1, iface1) = self.thermal_phase(pressure, [theta_c, theta_c], 1.0)?;
+        let mut out = Vec::with_capacity(fluxes.len());
+        for &flux in fluxes {
+            let scale = |t: f64| theta_c + flux * (t - theta_c);
+            let mut abp = AbpTemperatures {
+                upper: scale(abp1.upper),
+                lower: scale(abp1.lower),
+            };
+            let mut ts = scale(ts1);
+            let mut jump = ts - self.slave_abp(&abp);
+            let mut iface = iface1;
+            iface.max_active_jump *= flux;
+            let mut iterations = base_it + it1;
+            let mut k = 1;
+            let mut failure = None;
+            if self_consistent {
+                let mut converged = false;
+                while k < case.homogenization.max_iterations {
+                    k += 1;
+                    // Slave properties at θ̄ = θ̄c + ϑ̄c (first-order corrector), master at θ̄c.
+                    let t_slave = theta_c + jump;
+                    let temps = if slave == UPPER {
+                        [t_slave, theta_c]
+                    } else {
+                        [theta_c, t_slave]
+                    };
+                    let step = (|| -> Result<(AbpTemperatures, f64, usize, InterfaceMeasures)> {
+                        self.model.set_frozen_temperature(UPPER, temps[0]);
+                        self.model.set_frozen_temperature(LOWER, temps[1]);
+                        let it = self.drive([pressure, 0.0], [pressure, 0.0])?;
+                        let (a, t, it2, m) = self.thermal_phase(pressure, temps, flux)?;
+                        Ok((a, t, it + it2, m))
+                    })();
+                    match step {
+                        Ok((a, t, it, m)) => {
+                            iterations += it;
+                            let new_jump = t - self.slave_abp(&a);
+                            let change = (new_jump - jump).abs();
+                            (abp, ts, jump, iface) = (a, t, new_jump, m);
+                            if change
+                                <= case.homogenization.tolerance * jump.abs().max(1e-12 * theta_c)
+                            {
+                                converged = true;
+                                break;
+                            }
+                        }
+                        Err(e) => {
+                            failure = Some(e.to_string());
+                            break;
+                        }
+                    }
+                }
+                if !converged && failure.is_none() {
+                    failure = Some(format!(
+                        "self-consistency did not converge in {} iterations",
+                        case.homogenization.max_iterations
+                    ));
+                }
+                // The next flux (or pressure) starts again from the shared state at θ̄c.
+                self.model.restore(&base);
+                self.model.set_frozen_temperature(UPPER, theta_c);
+                self.model.set_frozen_temperature(LOWER, theta_c);
+            }
+            let r = match failure {
+                None => self.result(
+                    pressure,
+                    flux,
+                    self.identify(ts, &abp),
+                    ts,
+                    abp,
+                    iface,
+                    if self_consistent { k } else { 0 },
+                    iterations,
+                ),
+                Some(m) => {
+                    let mut r = PointResult::failed(case, pressure, m);
+                    r.flux = flux;
+                    r.newton_iterations = iterations;
+                    r
+                }
+            };
+            out.push(r);
+        }
+        self.points += 1;
+        Ok(out)
     }
 
     /// The thermal phase on the frozen configuration (Sect. 3.1 (ii)) with
-    /// conductivities frozen at `temps` (upper, lower); restores the
-    /// mechanical phase afterwards. Returns the ABP, `θ(I)` and iterations.
+    /// conductivities frozen at `temps` (upper, lower) and flux `flux`;
+    /// restores the mechanical phase afterwards. Returns the ABP, `θ(I)`, the
+    /// iterations and the interface measurements.
     fn thermal_phase(
         &mut self,
         pressure: f64,
         temps: [f64; 2],
-    ) -> Result<(AbpTemperatures, f64, usize)> {
+        flux: f64,
+    ) -> Result<(AbpTemperatures, f64, usize, InterfaceMeasures)> {
         let case = self.case;
         let (mface, sface) = (self.master_face(), self.slave_face());
         let abp = accompanying_bar(
             &self.materials.0,
             &self.materials.1,
             pressure,
-            case.load.flux,
+            flux,
             case.load.contact_temperature,
             case.sample.height,
             AbpProperties::Frozen(temps),
@@ -304,22 +441,32 @@ impl<'a> PathSolver<'a> {
             abp.lower
         };
         self.model.prescribe_face(mface.0, 1, mface.1, 2, tm);
-        let result = self.drive([pressure, 0.0], [pressure, 1.0]);
+        let result = self.drive([pressure, 0.0], [pressure, flux]);
         let ts = self.model.face_mean_temperature(sface.0, 1, sface.1);
-        self.last_interface = Some(measure(&self.model, self.alpha)?);
+        let interface = measure(&self.model, self.alpha)?;
+        if let (Some(dir), Ok(_)) = (&self.vtk, &result) {
+            crate::sample::vtk::write_model(&self.model, dir, &format!("p{:03}", self.points))?;
+        }
         // Back to the mechanical phase.
         self.model.restore_materials();
         self.model.restore(&saved);
         self.model.set_coupling(Coupling::Mechanical)?;
-        Ok((abp, ts, result?))
+        Ok((abp, ts, result?, interface))
     }
 }
 
 /// Solves every pressure of a case in order (one path); a failed point is
 /// reported with its reason and ends the path (the later points are reported
 /// as not reached). `progress` sees every result as it comes.
-pub fn solve_case(case: &Case, mut progress: impl FnMut(&PointResult)) -> Result<Vec<PointResult>> {
+pub fn solve_case(
+    case: &Case,
+    vtk: Option<std::path::PathBuf>,
+    mut progress: impl FnMut(&PointResult),
+) -> Result<Vec<PointResult>> {
     let mut solver = PathSolver::new(case)?;
+    if let Some(dir) = vtk {
+        solver.set_vtk(dir);
+    }
     let mut out = Vec::new();
     let mut failed = None;
     for &p in &case.load.pressures {

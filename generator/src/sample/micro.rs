@@ -164,7 +164,7 @@ pub fn build_model(
     };
     mb.contact(cs, cm, &case.contact, period)?;
     let mut model = mb.build(coupling)?;
-    model.touch(cs.0, 1)?;
+    model.touch(UPPER, 1)?;
     Ok(model)
 }
 
@@ -203,7 +203,11 @@ pub fn measure(model: &Model, alpha: f64) -> Result<InterfaceMeasures> {
     // the contact zone and the (scaled) gap outside; its zero crossing between
     // neighbouring slave control points (Greville positions) locates the edge.
     let xs: Vec<f64> = c.slave_nodes.iter().map(|&n| model.node_x(n)).collect();
-    let ind: Vec<f64> = (0..ns).map(|i| c.pressure(i)).collect();
+    // Computed from the multipliers also in the thermal phase, where
+    // `pressure` returns the frozen, clipped pressures that carry no gap.
+    let ind: Vec<f64> = (0..ns)
+        .map(|i| c.lambda_n[i] - c.eps_n * c.weighted_gap(i))
+        .collect();
     let (mut contact, mut total) = (0.0, 0.0);
     for i in 0..ns - 1 {
         let dx = (xs[i + 1] - xs[i]).abs();

@@ -3,5 +3,6 @@
 
 pub mod case;
 pub mod micro;
+pub mod vtk;
 
 pub use case::Case;

@@ -574,31 +574,49 @@ impl Model {
         self.load
     }
 
-    /// Moves the slave body rigidly along the master normal until its
-    /// closest control point touches (weighted gap zero), and seeds that
-    /// point's multiplier so that the vertical position is determined from
-    /// the first iteration (loading starts at first touch, spec §5).
-    pub fn touch(&mut self, slave_body: usize, vertical: usize) -> Result<()> {
+    /// Moves `body` (the one under the platen) rigidly by the smallest
+    /// weighted gap along `vertical` (downwards), so that the surfaces touch
+    /// at one slave control point (weighted gap zero), and seeds that point's
+    /// multiplier so that the vertical position is determined from the first
+    /// iteration (loading starts at first touch, spec §5). Whichever body is
+    /// the slave, closing the gap moves the free upper body down.
+    pub fn touch(&mut self, body: usize, vertical: usize) -> Result<()> {
         let Some(c) = self.contact.as_mut() else {
             return Ok(());
         };
-        c.prepare(&self.state, (false, false))?;
-        let (imin, gmin) = (0..c.n_slave())
-            .map(|i| (i, c.weighted_gap(i)))
-            .fold((0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
-        let b = &self.bodies[slave_body];
+        let b = &self.bodies[body];
+        let nodes: Vec<usize> = (b.node_offset..b.node_offset + b.patch.n_control_points())
+            .filter(|&n| matches!(self.dofs.dof(n, vertical), crate::solve::Dof::Free(_)))
+            .collect();
         let nf = self.dim + 1;
-        let sign = if c.normal_points_up() { -1.0 } else { 1.0 };
-        for n in b.node_offset..b.node_offset + b.patch.n_control_points() {
-            if let crate::solve::Dof::Free(_) = self.dofs.dof(n, vertical) {
-                self.state[n * nf + vertical] += sign * gmin;
+        // The normal varies over a node's support: repeat the rigid shift
+        // until the smallest weighted gap is zero to round-off.
+        let mut imin = 0;
+        for _ in 0..20 {
+            c.prepare(&self.state, (false, false))?;
+            let (i, gmin) = (0..c.n_slave())
+                .map(|i| (i, c.weighted_gap(i)))
+                .fold((0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
+            imin = i;
+            for &n in &nodes {
+                self.state[n * nf + vertical] -= gmin;
+            }
+            if gmin.abs() < 1e-13 {
+                break;
             }
         }
         self.initial = self.state.clone();
         c.prepare(&self.state, (false, false))?;
-        c.lambda_n[imin] = c.lambda_n[imin].max(1e-9 * c.eps_n);
+        // Seed every point that touches (conforming surfaces touch everywhere).
+        for i in 0..c.n_slave() {
+            let g = c.weighted_gap(i);
+            if i == imin || g < 1e-10 {
+                c.lambda_n[i] = c.lambda_n[i].max(c.eps_n * (2.0 * g.max(0.0) + 1e-9));
+            }
+        }
         Ok(())
     }
+
     /// The current coupling.
     pub fn coupling(&self) -> Coupling {
         self.coupling
@@ -613,6 +631,11 @@ impl Model {
             b.material.thermal_conductivity = k;
             b.material.conductivity_slope = 0.0;
         }
+    }
+
+    /// Reference position of a node (scaled).
+    pub fn node_reference(&self, node: usize) -> [f64; 3] {
+        self.node_position(node)
     }
 
     /// Reference x coordinate of a node (scaled).
@@ -895,7 +918,15 @@ impl NonlinearProblem for Model {
         for (v, &c) in self.external().iter().zip(&self.eq_class) {
             s[c] += v * v;
         }
-        s.iter().map(|x| x.sqrt()).collect()
+        let mut s: Vec<f64> = s.iter().map(|x| x.sqrt()).collect();
+        // The multiplier equations carry no external load; their residual
+        // `A^I g^I` (`A^I γθ^I`) is a nodal force (heat input) over εN (εθ),
+        // which sets their reference magnitude.
+        if let Some(c) = &self.contact {
+            s[2] = s[0] / c.eps_n;
+            s[3] = s[1] / c.eps_t;
+        }
+        s
     }
 
     fn update(&mut self, dx: &[f64]) {

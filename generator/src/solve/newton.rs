@@ -177,8 +177,6 @@ impl Newton {
         let mut r = vec![0.0; n];
         let mut history = Vec::new();
         let mut first: Option<Vec<f64>> = None;
-        let mut last_step: Option<(Vec<f64>, f64)> = None;
-        let mut backtracks = 0;
         let names: Vec<&str> = p.field_names().to_vec();
         let fail = |iterations: usize, reason: String| Error::NewtonDiverged {
             step,
@@ -222,13 +220,6 @@ impl Newton {
             if it == self.settings.max_iterations {
                 break;
             }
-            // Merit: residual norms relative to their references.
-            let merit: f64 = norms
-                .iter()
-                .zip(reference.iter())
-                .map(|(v, r0)| (v / r0.max(self.settings.absolute_tolerance)).powi(2))
-                .sum::<f64>()
-                .sqrt();
             let total: f64 = norms.iter().map(|v| v * v).sum::<f64>().sqrt();
             let total_ref: f64 = reference.iter().map(|v| v * v).sum::<f64>().sqrt();
             if total
@@ -239,21 +230,6 @@ impl Newton {
                     format!("residual grew to {total:.3e} from {total_ref:.3e}"),
                 ));
             }
-            // Lazy backtracking: a step that increased the merit (typically an
-            // active-set cycle of the semi-smooth Newton method) is halved,
-            // up to four times, before a new tangent is formed.
-            if let Some((dx, prev)) = last_step.as_mut()
-                && merit > *prev
-                && backtracks < 4
-            {
-                backtracks += 1;
-                dx.iter_mut().for_each(|v| *v *= -0.5);
-                p.update(dx);
-                p.after_update();
-                dx.iter_mut().for_each(|v| *v = -*v);
-                continue;
-            }
-            backtracks = 0;
             let solver = &mut self.solver.as_mut().expect("solver set above").1;
             solver
                 .factorize(&values)
@@ -267,7 +243,6 @@ impl Newton {
             }
             p.update(&r);
             p.after_update();
-            last_step = Some((r.clone(), merit));
         }
         let last = history
             .last()

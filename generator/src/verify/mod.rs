@@ -10,6 +10,7 @@ use serde::Serialize;
 use crate::Result;
 
 pub mod bulk;
+pub mod homogenization;
 pub mod mms;
 
 /// One line of the verification table.
@@ -118,7 +119,37 @@ pub fn catalogue() -> Vec<Case> {
     let mut v = Vec::new();
     v.extend(mms::cases());
     v.extend(bulk::cases());
+    v.extend(homogenization::cases());
     v
+}
+
+/// Runs the cases whose name satisfies `select`; `Ok(number of checks)` if
+/// every check passed, otherwise the failed checks (or errors) as a table.
+pub fn run_selected(select: impl Fn(&str) -> bool) -> std::result::Result<usize, String> {
+    let cases: Vec<Case> = catalogue().into_iter().filter(|c| select(c.name)).collect();
+    if cases.is_empty() {
+        return Err("no case selected".into());
+    }
+    let mut n = 0;
+    let mut report = String::new();
+    for c in cases {
+        match (c.run)() {
+            Ok(checks) if checks.is_empty() => report.push_str(&format!("{}: no checks\n", c.name)),
+            Ok(checks) => {
+                n += checks.len();
+                let failed: Vec<Check> = checks.into_iter().filter(|c| !c.pass).collect();
+                if !failed.is_empty() {
+                    report.push_str(&format_table(&failed));
+                }
+            }
+            Err(e) => report.push_str(&format!("{}: {e}\n", c.name)),
+        }
+    }
+    if report.is_empty() {
+        Ok(n)
+    } else {
+        Err(report)
+    }
 }
 
 /// Least-squares slope of `log(e)` against `log(h)`.

@@ -1,0 +1,606 @@
+//! The paper's 2D homogenization findings (Sects. 3, 5.3–5.7; spec §10 items
+//! 6–9) as verification cases: spurious size effects of the coupled
+//! identification (Fig. 13a, (2.15)), scale separation of the two-phase
+//! framework (Fig. 13b), textured conforming interfaces ((3.5)–(3.7),
+//! Fig. 12), self-consistency and sample height (Fig. 14), LN against PR
+//! (Fig. 11) and the validation through the homogenized bar problem (Fig. 16).
+//!
+//! Meshes are coarse by default (the whole set runs in about a minute);
+//! `TCGEN_LONG_TESTS=1` switches to the paper's resolution.
+
+use std::path::Path;
+
+use crate::Result;
+use crate::analytical::compression::platen_stretch;
+use crate::analytical::size_effects::{
+    coupled_jump_lower_slave, coupled_jump_upper_slave, flat_jump, textured_jump,
+};
+use crate::homogenize::hbp::homogenized_bar;
+use crate::homogenize::path::{PathSolver, PointResult, solve_case};
+use crate::sample::case::Case as SampleCase;
+use crate::verify::{Case, Check};
+
+/// Whether the long (fine-mesh) variants run (`TCGEN_LONG_TESTS=1`).
+pub fn long_runs() -> bool {
+    std::env::var("TCGEN_LONG_TESTS").is_ok_and(|v| v == "1")
+}
+
+/// The parameters of a micro-sample case (SI units); `toml` renders the case file.
+#[derive(Clone, Debug)]
+pub struct Sample {
+    /// Width `W` (m).
+    pub width: f64,
+    /// Height `H0` of each body (m).
+    pub height: f64,
+    /// `"periodic"` or `"linear"`.
+    pub lateral: &'static str,
+    /// `[surface.upper]` body (TOML keys).
+    pub upper: String,
+    /// `[surface.lower]` body (TOML keys).
+    pub lower: String,
+    /// Extra `[material]` keys.
+    pub material: String,
+    /// Elements `[x, z]` of the upper and lower bodies.
+    pub elements: ([usize; 2], [usize; 2]),
+    /// `[contact]` keys.
+    pub contact: String,
+    /// Pressures (Pa).
+    pub pressures: Vec<f64>,
+    /// Flux magnitude (W/m²).
+    pub flux: f64,
+    /// Identification (`method` value).
+    pub method: &'static str,
+    /// `"lower"` or `"upper"`.
+    pub master: &'static str,
+}
+
+/// A sinusoid's `[surface.*]` keys.
+pub fn sinusoid(rms: f64, wavelength: f64, phase: f64) -> String {
+    format!("kind = \"sinusoid\"\nrms = {rms:e}\nwavelength = {wavelength:e}\nphase = {phase:e}\n")
+}
+
+/// The flat surface's keys.
+pub fn flat() -> String {
+    "kind = \"flat\"\n".into()
+}
+
+/// Constitutive contact keys: `kθ`, `α`.
+pub fn constitutive(k_theta: f64, alpha: f64) -> String {
+    format!(
+        "thermal = \"constitutive\"\nconductance_coefficient = {k_theta:e}\npressure_exponent = {alpha:e}\n"
+    )
+}
+
+impl Default for Sample {
+    /// The sinusoid on a flat of Sect. 5.7 (width 10 μm, RMS 1 μm, heights
+    /// 7 μm, Table I material, constraint model), on a coarse mesh.
+    fn default() -> Self {
+        Sample {
+            width: 1.0e-5,
+            height: 7.0e-6,
+            lateral: "periodic",
+            upper: sinusoid(1.0e-6, 1.0e-5, 0.0),
+            lower: flat(),
+            material: String::new(),
+            elements: ([16, 8], [12, 7]),
+            contact: "thermal = \"constraint\"\n".into(),
+            pressures: vec![1.0e4],
+            flux: 1.0e6,
+            method: "two-phase",
+            master: "lower",
+        }
+    }
+}
+
+impl Sample {
+    /// The case file text.
+    pub fn toml(&self) -> String {
+        let p: Vec<String> = self.pressures.iter().map(|p| format!("{p:e}")).collect();
+        format!(
+            "[sample]\nwidth = {:e}\nheight = {:e}\nlateral = \"{}\"\n\
+             [surface.upper]\n{}[surface.lower]\n{}[material]\n{}\
+             [discretization]\ndegree = 2\nelements_upper = [{}, {}]\nelements_lower = [{}, {}]\n\
+             [contact]\n{}[load]\npressures = [{}]\nflux = {:e}\ncontact_temperature = 293.15\n\
+             [homogenization]\nmethod = \"{}\"\nmaster = \"{}\"\n",
+            self.width,
+            self.height,
+            self.lateral,
+            self.upper,
+            self.lower,
+            self.material,
+            self.elements.0[0],
+            self.elements.0[1],
+            self.elements.1[0],
+            self.elements.1[1],
+            self.contact,
+            p.join(", "),
+            self.flux,
+            self.method,
+            self.master
+        )
+    }
+
+    /// The parsed case.
+    pub fn case(&self) -> Result<SampleCase> {
+        SampleCase::from_toml(&self.toml(), Path::new("."))
+    }
+
+    /// Solves the path; a failed point is an error naming the sample.
+    pub fn solve(&self) -> Result<Vec<PointResult>> {
+        let case = self.case()?;
+        let out = solve_case(&case, None, |_| {})?;
+        for r in &out {
+            if !r.converged {
+                return Err(crate::Error::Config(format!(
+                    "{} ({} master, H0 = {:e} m) at {:e} Pa: {:?}",
+                    self.method, self.master, self.height, r.pressure, r.status
+                )));
+            }
+        }
+        Ok(out)
+    }
+
+    /// The jump at the (single) first pressure.
+    pub fn jump(&self) -> Result<f64> {
+        Ok(self.solve()?[0].jump)
+    }
+}
+
+/// All cases of this file.
+pub fn cases() -> Vec<Case> {
+    vec![
+        Case {
+            name: "size_effects_resistive",
+            description: "Fig. 13a: flat resistive interface (10 K): two-phase exact, coupled (2.14) follows (2.15)",
+            run: size_effects_resistive,
+        },
+        Case {
+            name: "scale_separation",
+            description: "Fig. 13b: scaling the sinusoid-on-flat sample by ε scales the two-phase jump by ε",
+            run: scale_separation,
+        },
+        Case {
+            name: "textured_conforming",
+            description: "Sect. 3.2, Fig. 12: matching sinusoids, two-phase jump → (3.5) at scale separation, below the flat jump",
+            run: textured_conforming,
+        },
+        Case {
+            name: "self_consistency",
+            description: "Fig. 14a: self-consistency converges in a few iterations, faster for smaller jumps",
+            run: self_consistency_iterations,
+        },
+        Case {
+            name: "height_saturation",
+            description: "Fig. 14b: the self-consistent jump saturates with height, the coupled ones drift",
+            run: height_saturation,
+        },
+        Case {
+            name: "hbp_validation",
+            description: "Fig. 16b: HBP with the identified jump vs the coupled OHP on a 30 um sample",
+            run: hbp_validation,
+        },
+    ]
+}
+
+/// Micro jump of the resistive test (K), Sect. 2.2.3 / Fig. 13a.
+const MICRO_JUMP: f64 = 10.0;
+
+/// Fig. 13a with the assumptions of (2.15): flat surfaces, constant
+/// conductance `kθ = |h̄|/10 K` (`α = 0`), nearly rigid bodies with constant
+/// `k` and no expansion. LN sides (the flat cell is uniform; see the report
+/// on PR with `α = 0`). The closed form uses the stretched height `λH0`.
+fn size_effects_resistive() -> Result<Vec<Check>> {
+    let case = "size_effects_resistive";
+    let flux = 1.0e6;
+    let pressure = 1.0e5;
+    let material = "youngs_modulus = 1.0e11\nthermal_expansion = 0.0\nconductivity_slope = 0.0\n";
+    let m = crate::material::Material {
+        youngs_modulus: 1.0e11,
+        thermal_expansion: 0.0,
+        conductivity_slope: 0.0,
+        ..Default::default()
+    };
+    let theta_c = 293.15;
+    let lambda = platen_stretch(&m, pressure, theta_c)?;
+    let g_bar = flux / m.thermal_conductivity;
+    let heights: &[f64] = if long_runs() {
+        &[1.0e-6, 3.0e-6, 1.0e-5, 2.0e-5, 3.0e-5]
+    } else {
+        &[1.0e-6, 1.0e-5, 3.0e-5]
+    };
+    let mut out = Vec::new();
+    for &h0 in heights {
+        for master in ["lower", "upper"] {
+            let s = Sample {
+                width: 1.0e-5,
+                height: h0,
+                lateral: "linear",
+                upper: flat(),
+                lower: flat(),
+                material: material.into(),
+                elements: ([4, 4], [4, 4]),
+                contact: constitutive(flux / MICRO_JUMP, 0.0),
+                pressures: vec![pressure],
+                flux,
+                method: "two-phase",
+                master,
+            };
+            let h_um = h0 * 1e6;
+            // Two-phase: the micro jump for every height and master (1e−6: Newton's tolerance).
+            out.push(Check::relative(
+                case,
+                &format!("two-phase jump, {master} master, H0={h_um}um"),
+                s.jump()?,
+                MICRO_JUMP,
+                1e-6,
+            ));
+            let coupled = Sample {
+                method: "coupled",
+                ..s.clone()
+            }
+            .jump()?;
+            let reference = if master == "lower" {
+                coupled_jump_upper_slave(theta_c, g_bar, lambda * h0, MICRO_JUMP)
+            } else {
+                coupled_jump_lower_slave(theta_c, g_bar, lambda * h0, MICRO_JUMP)
+            };
+            // (2.15) with θ̄c the master's contact temperature; 1e−6 as above.
+            out.push(Check::relative(
+                case,
+                &format!("coupled (2.14) = (2.15), {master} master, H0={h_um}um"),
+                coupled,
+                reference,
+                1e-6,
+            ));
+        }
+    }
+    Ok(out)
+}
+
+/// Fig. 13b: the sinusoid on a flat (constraint model, `|h̄| = 0.01 W/mm²`)
+/// scaled by ε (width, height, RMS, wavelength): the two-phase jump is
+/// linear in ε for both masters; the coupled (2.14) is not and depends on
+/// the master.
+fn scale_separation() -> Result<Vec<Check>> {
+    let case = "scale_separation";
+    let scales: &[f64] = if long_runs() {
+        &[0.25, 0.5, 1.0, 2.0, 4.0]
+    } else {
+        &[0.25, 1.0, 4.0]
+    };
+    let base = Sample {
+        flux: 1.0e4,
+        pressures: vec![1.0e4],
+        ..Sample::default()
+    };
+    let scaled = |eps: f64, method: &'static str, master: &'static str| Sample {
+        width: eps * base.width,
+        height: eps * base.height,
+        upper: sinusoid(eps * 1.0e-6, eps * 1.0e-5, 0.0),
+        method,
+        master,
+        ..base.clone()
+    };
+    let mut out = Vec::new();
+    let reference = scaled(1.0, "two-phase", "lower").jump()?;
+    let mut coupled = Vec::new();
+    for &eps in scales {
+        // Lower master only: a sinusoidal master does not solve yet (report).
+        let j = scaled(eps, "two-phase", "lower").jump()?;
+        // Linear in ε: the scaled problems are the same up to units (1e−3
+        // asked; the solver's tolerance in practice).
+        out.push(Check::relative(
+            case,
+            &format!("two-phase jump/eps, eps={eps}"),
+            j / eps,
+            reference,
+            1e-3,
+        ));
+        coupled.push(scaled(eps, "coupled", "lower").jump()? / eps);
+    }
+    // The coupled identification (2.14) is not linear in ε (size effect): its
+    // spread of jump/ε over the scales must exceed the two-phase tolerance.
+    let (lo, hi) = coupled
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        });
+    let spread = (hi - lo) / reference;
+    out.push(Check::with_error(
+        case,
+        &format!("coupled (2.14) jump/eps spread (min {lo:.4e}, max {hi:.4e})"),
+        spread,
+        1e-3,
+        1e-3 / spread.max(1e-300),
+        1.0,
+    ));
+    Ok(out)
+}
+
+/// Sect. 3.2 / 5.4: matching sinusoids (one surface for both bodies, the
+/// whole interface in contact), constitutive model `kθ = 10`, `α = 1`,
+/// two-phase. The jump approaches (3.5) with the computed `[pN^α]` as the
+/// sample is scaled down (the jump along the interface becomes uniform) and
+/// lies below the flat value (3.6). `p̄N = 1 kPa` so that `kθ p̄N = 1e4` is
+/// already below `k/λ = 1e5` at ε = 1; LN sides (symmetric cell). Matching
+/// meshes (16 × 8 both); at `p̄N = 1e5 Pa` the conforming mechanical phase
+/// stalls at a residual ~1e−6 (reported).
+fn textured_conforming() -> Result<Vec<Check>> {
+    let case = "textured_conforming";
+    let (k_theta, alpha, pressure, flux) = (10.0, 1.0, 1.0e3, 1.0e6);
+    let scales: &[f64] = if long_runs() {
+        &[1.0, 0.1, 0.01, 0.001]
+    } else {
+        &[1.0, 0.01, 0.001]
+    };
+    let mut out = Vec::new();
+    let flat_value = flat_jump(flux, k_theta, pressure, alpha);
+    let mut deviations = Vec::new();
+    for &eps in scales {
+        let surface = sinusoid(eps * 1.0e-6, eps * 1.0e-5, 0.0);
+        let s = Sample {
+            width: eps * 1.0e-5,
+            height: eps * 7.0e-6,
+            lateral: "linear",
+            upper: surface.clone(),
+            lower: surface,
+            contact: constitutive(k_theta, alpha),
+            pressures: vec![pressure],
+            flux,
+            elements: ([16, 8], [16, 8]),
+            ..Sample::default()
+        };
+        let c = s.case()?;
+        let mut solver = PathSolver::new(&c)?;
+        let r = solver.solve_pressure(pressure)?;
+        let mean = mean_pressure_power_per_projected_area(&solver, alpha);
+        let expected = textured_jump(flux, k_theta, mean);
+        let dev = (r.jump - expected).abs() / expected;
+        deviations.push(dev);
+        out.push(Check::with_error(
+            case,
+            &format!("two-phase jump vs (3.5), eps={eps}"),
+            r.jump,
+            expected,
+            dev,
+            if eps <= 1e-3 { 1e-5 } else { f64::INFINITY },
+        ));
+        out.push(Check::with_error(
+            case,
+            &format!("jump below flat (3.6) value, eps={eps}"),
+            r.jump,
+            flat_value,
+            r.jump / flat_value,
+            1.0 - 1e-3,
+        ));
+    }
+    out.push(Check::with_error(
+        case,
+        "deviation from (3.5) shrinks with eps (ratio last/first)",
+        deviations[deviations.len() - 1],
+        deviations[0],
+        deviations[deviations.len() - 1] / deviations[0],
+        0.1,
+    ));
+    Ok(out)
+}
+
+/// `[pN^α]` of (3.5): `|A|⁻¹ ∫ pN^α dA` over the referential rough surface,
+/// `|A|` the projected width (Pa^α), from the lumped mortar pressures.
+pub fn mean_pressure_power_per_projected_area(solver: &PathSolver<'_>, alpha: f64) -> f64 {
+    let model = &solver.model;
+    let c = model
+        .contact
+        .as_ref()
+        .expect("micro-sample has a contact interface");
+    let s = model.scales;
+    let sum: f64 = (0..c.n_slave())
+        .map(|i| c.lumped_area[i] * c.pressure(i).max(0.0).powf(alpha))
+        .sum();
+    let width: f64 = {
+        let xs: Vec<f64> = c.slave_nodes.iter().map(|&n| model.node_x(n)).collect();
+        let (lo, hi) = xs
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+                (a.min(x), b.max(x))
+            });
+        hi - lo
+    };
+    sum / width * s.stress.powf(alpha)
+}
+
+/// Fig. 14a: the self-consistency iterations of the sinusoid on a flat
+/// (constraint model) converge in a few iterations, fewer for smaller jumps
+/// (higher pressures).
+fn self_consistency_iterations() -> Result<Vec<Check>> {
+    let case = "self_consistency";
+    let s = Sample {
+        // 1e5 Pa does not finish in minutes yet (report); LONG adds it.
+        pressures: if long_runs() {
+            vec![1.0e4, 1.0e5]
+        } else {
+            vec![1.0e4]
+        },
+        method: "two-phase-self-consistent",
+        ..Sample::default()
+    };
+    let r = s.solve()?;
+    let mut out = Vec::new();
+    for (i, p) in r.iter().enumerate() {
+        let it = p.self_consistency_iterations as f64;
+        // "a few": at most 8 iterations to the 1e−6 relative tolerance.
+        out.push(Check::with_error(
+            case,
+            &format!(
+                "iterations at {:.0e} Pa (jump {:.3e} K)",
+                p.pressure, p.jump
+            ),
+            it,
+            8.0,
+            it,
+            8.0,
+        ));
+        if i > 0 {
+            let prev = r[i - 1].self_consistency_iterations as f64;
+            // Smaller jump (higher pressure): no more iterations than before.
+            out.push(Check::with_error(
+                case,
+                &format!(
+                    "iterations do not grow as the jump falls, {:.0e} Pa",
+                    p.pressure
+                ),
+                it,
+                prev,
+                it - prev,
+                0.0,
+            ));
+        }
+    }
+    Ok(out)
+}
+
+/// Fig. 14b: the two-phase self-consistent jump saturates with the sample
+/// height while the coupled (2.14) and linearized (3.4) jumps drift.
+fn height_saturation() -> Result<Vec<Check>> {
+    let case = "height_saturation";
+    let heights: &[f64] = if long_runs() {
+        &[3.5e-6, 7.0e-6, 1.4e-5, 2.1e-5]
+    } else {
+        &[7.0e-6, 1.4e-5]
+    };
+    let run = |method: &'static str| -> Result<Vec<f64>> {
+        heights
+            .iter()
+            .map(|&h| {
+                let nz = ((h / 7.0e-6) * 8.0).ceil() as usize;
+                Sample {
+                    height: h,
+                    elements: ([16, nz], [12, nz]),
+                    method,
+                    ..Sample::default()
+                }
+                .jump()
+            })
+            .collect()
+    };
+    let drift = |j: &[f64]| (j[j.len() - 1] - j[j.len() - 2]).abs() / j[j.len() - 2];
+    let sc = run("two-phase-self-consistent")?;
+    let coupled = run("coupled")?;
+    let linearized = run("linearized")?;
+    let (d_sc, d_c, d_l) = (drift(&sc), drift(&coupled), drift(&linearized));
+    let mut out = vec![Check::with_error(
+        case,
+        &format!("self-consistent drift over the last doubling (jumps {sc:.4?})"),
+        d_sc,
+        0.0,
+        d_sc,
+        // saturated: below 1 % over the last height step
+        1e-2,
+    )];
+    for (name, d, j) in [("coupled", d_c, &coupled), ("linearized", d_l, &linearized)] {
+        out.push(Check::with_error(
+            case,
+            &format!("{name} drifts more than self-consistent ({j:.4?})"),
+            d,
+            d_sc,
+            d_sc / d.max(1e-300),
+            1.0,
+        ));
+    }
+    Ok(out)
+}
+
+/// Fig. 16b: the HBP with the identified jump against the fully coupled OHP
+/// on a tall (30 μm) sample: the mismatch of `θ(1)` with and without
+/// self-consistency, for the constraint model and with micro resistance
+/// (`kθ = 10`, `α = 1`).
+fn hbp_validation() -> Result<Vec<Check>> {
+    let case = "hbp_validation";
+    let pressures: &[f64] = if long_runs() {
+        &[1.0e3, 1.0e4, 1.0e5]
+    } else {
+        &[1.0e4]
+    };
+    let tall_nz = if long_runs() { 32 } else { 20 };
+    let mut out = Vec::new();
+    for (label, contact) in [
+        ("constraint", "thermal = \"constraint\"\n".to_string()),
+        ("resistive", constitutive(10.0, 1.0)),
+    ] {
+        let base = Sample {
+            pressures: pressures.to_vec(),
+            contact: contact.clone(),
+            ..Sample::default()
+        };
+        let ohp = Sample {
+            height: 3.0e-5,
+            elements: ([16, tall_nz], [12, tall_nz]),
+            method: "coupled",
+            ..base.clone()
+        }
+        .solve()?;
+        let plain = Sample {
+            method: "two-phase",
+            ..base.clone()
+        }
+        .solve()?;
+        let sc = Sample {
+            method: "two-phase-self-consistent",
+            ..base.clone()
+        }
+        .solve()?;
+        let m = base.case()?.materials()?;
+        for i in 0..pressures.len() {
+            let o = &ohp[i];
+            let top = |jump: f64| -> Result<f64> {
+                Ok(homogenized_bar(
+                    &m.0,
+                    &m.1,
+                    o.pressure,
+                    o.flux,
+                    o.theta_abp_lower,
+                    3.0e-5,
+                    jump,
+                )?
+                .upper_top)
+            };
+            let (t_plain, t_sc) = (top(plain[i].jump)?, top(sc[i].jump)?);
+            let (e_plain, e_sc) = ((t_plain - o.theta_top).abs(), (t_sc - o.theta_top).abs());
+            out.push(Check::with_error(
+                case,
+                &format!("{label}: |θHBP(1)-θ(1)| two-phase, {:.0e} Pa", o.pressure),
+                t_plain,
+                o.theta_top,
+                e_plain,
+                f64::INFINITY,
+            ));
+            // The self-consistent mismatch: below 5 % of the jump, and for the
+            // constraint model below the plain two-phase one (Fig. 16b).
+            out.push(Check::with_error(
+                case,
+                &format!(
+                    "{label}: |θHBP(1)-θ(1)|/jump self-consistent, {:.0e} Pa",
+                    o.pressure
+                ),
+                t_sc,
+                o.theta_top,
+                e_sc / sc[i].jump,
+                5e-2,
+            ));
+            if label == "constraint" {
+                out.push(Check::with_error(
+                    case,
+                    &format!(
+                        "constraint: self-consistent beats two-phase, {:.0e} Pa",
+                        o.pressure
+                    ),
+                    e_sc,
+                    e_plain,
+                    e_sc / e_plain.max(1e-300),
+                    1.0,
+                ));
+            }
+        }
+    }
+    Ok(out)
+}
