@@ -87,7 +87,7 @@ def plot(ds: xr.Dataset, variable: str, temperature: float | None, png: str) -> 
     band = f", band: 5–95 % of {samples} samples" if samples > 1 else ""
     ax.set_title(f"{variable} at θ̄c = {float(sel.contact_temperature):.5g} K{band}", fontsize=10)
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="center right")
     fig.tight_layout()
     fig.savefig(png, dpi=120)
     plt.close(fig)

@@ -1,0 +1,84 @@
+//! The table's consumers through the binary, without solving: `tcgen law`
+//! on the committed reference table (the law holds the table's ensemble
+//! mean, read back by `lookup`), and `tcgen surface` on a random sweep file
+//! (the CSV of sample s holds the surfaces of `(seed, s)` and imports back as
+//! `kind = "profile"`).
+
+#[path = "sweep_support.rs"]
+mod support;
+
+use std::path::Path;
+use std::process::Command;
+
+use support::*;
+use tcgen::surface::{Profile, Surface, SurfaceSpec};
+
+#[test]
+fn law_of_the_reference_table_reads_back() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let dir = scratch("sweep-cli-law");
+    let law_path = dir.join("reference.tclaw");
+    let o = Command::new(env!("CARGO_BIN_EXE_tcgen"))
+        .args(["law", "-o"])
+        .arg(&law_path)
+        .arg(root.join("tables/reference.h5"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let law = lookup::Law::open(&law_path).unwrap();
+    let table = tcgen::io::read_table(&root.join("tables/reference.h5")).unwrap();
+    let st = table.statistics();
+    assert_eq!(law.axes().pressure, table.pressure);
+    assert_eq!(law.axes().flux, table.flux);
+    for (k, s) in st.jump.iter().enumerate() {
+        assert_eq!(law.jump_mean()[k], s.unwrap().mean);
+    }
+    assert_eq!(law.info().statistic, lookup::Statistic::Deterministic);
+    let prov = &law.info().provenance;
+    for key in [
+        "generator",
+        "source",
+        "config_sha256",
+        "identification",
+        "surface",
+        "table_schema",
+    ] {
+        assert!(prov.iter().any(|(k, _)| k == key), "{key}: {prov:?}");
+    }
+    let v = law.eval(table.pressure[0], table.flux[1], 293.15).unwrap();
+    assert!((v.jump / law.jump_mean()[1] - 1.0).abs() < 1e-14);
+}
+
+#[test]
+fn surface_writes_the_sample_of_a_sweep() {
+    let dir = scratch("sweep-cli-surface");
+    let (cfg_path, cfg) = config(&dir, "random.toml", &failing_random_sweep(4));
+    let csv = dir.join("lower.csv");
+    let o = Command::new(env!("CARGO_BIN_EXE_tcgen"))
+        .args([
+            "surface", "--sample", "3", "--body", "lower", "--points", "512", "-o",
+        ])
+        .arg(&csv)
+        .arg(&cfg_path)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        out.contains("NURBS fit") && out.contains("error max"),
+        "{out}"
+    );
+    let w = cfg.case.sample.width;
+    let profile = Profile::read(&csv, w, "csv").unwrap();
+    let SurfaceSpec::Random(spec) = cfg.path_case(3, 0, 0).surface.lower else {
+        panic!("lower surface is random")
+    };
+    let s = spec.generate("surface.lower", w);
+    for j in 0..512 {
+        let x = w * j as f64 / 512.0;
+        assert!(
+            (profile.height(x) - s.height(x)).abs() < 1e-6 * 5e-7,
+            "x = {x}"
+        );
+    }
+}
