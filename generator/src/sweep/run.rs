@@ -165,7 +165,7 @@ fn tasks(
 ) -> Vec<Task> {
     let mut out: Vec<Task> = Vec::new();
     let ranges: Vec<Range<usize>> = if continuation {
-        vec![0..np]
+        std::iter::once(0..np).collect()
     } else {
         (0..np).map(|ip| ip..ip + 1).collect()
     };
