@@ -80,14 +80,13 @@ def plot(ds: xr.Dataset, variable: str, temperature: float | None, png: str) -> 
             for s in range(samples):
                 ax.plot(sel.pressure, sel[variable].sel(flux=h).isel(sample=s), "-", color=color, alpha=0.3, lw=0.6)
     ax.set_xscale("log")
-    if variable == "conductance":
-        ax.set_yscale("log")
+    ax.set_yscale("log")
     ax.set_xlabel("pressure p̄N (Pa)")
     ax.set_ylabel(f"{variable} ({sel[variable].attrs.get('units')})")
     band = f", band: 5–95 % of {samples} samples" if samples > 1 else ""
     ax.set_title(f"{variable} at θ̄c = {float(sel.contact_temperature):.5g} K{band}", fontsize=10)
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8, loc="center right")
+    ax.legend(fontsize=8, loc="best")
     fig.tight_layout()
     fig.savefig(png, dpi=120)
     plt.close(fig)

@@ -181,7 +181,7 @@ fn sweep(a: SweepArgs) -> ExitCode {
         deadline: a
             .time_limit
             .map(|s| start + std::time::Duration::from_secs_f64(s.max(0.0))),
-        max_paths: None,
+        max_tasks: None,
     };
     let (np, nh, nt, ns) = (
         cfg.pressures.len(),
@@ -205,15 +205,15 @@ fn sweep(a: SweepArgs) -> ExitCode {
     };
     let t = &r.timing;
     println!(
-        "  {} of {} paths computed ({} micro-solves, {} failed) on {} threads in {:.1} s: {:.3} micro-solves/s; {} paths reused from the checkpoint",
-        r.computed_paths,
-        r.shard_paths,
+        "  {} of {} micro-solves computed ({} failed) in {} tasks on {} threads in {:.1} s: {:.3} micro-solves/s; {} reused from the checkpoint",
         r.micro_solves,
+        r.shard_micro_solves,
         r.failed_micro_solves,
+        r.tasks,
         r.threads,
         t.wall,
         r.micro_solves as f64 / t.wall.max(1e-9),
-        r.reused_paths
+        r.reused_micro_solves
     );
     println!(
         "  time: set-up {:.2} s, micro-solves {:.2} s (thread-seconds), checkpoint {:.3} s, table write {:.3} s",
@@ -222,8 +222,8 @@ fn sweep(a: SweepArgs) -> ExitCode {
     match r.table {
         None => {
             println!(
-                "  stopped by --time-limit: {} paths remain; continue with --resume",
-                r.shard_paths - r.reused_paths - r.computed_paths
+                "  stopped by --time-limit: {} micro-solves remain; continue with --resume",
+                r.shard_micro_solves - r.reused_micro_solves - r.micro_solves
             );
             ExitCode::from(3)
         }

@@ -1,4 +1,4 @@
-//! Interruption and resume: a run stopped after some paths, or killed,
+//! Interruption and resume: a run stopped after a task, or killed,
 //! leaves its checkpoint and no table at the output path; `--resume` then
 //! gives the same file as an uninterrupted run.
 
@@ -35,14 +35,14 @@ fn a_stopped_run_resumes_to_the_same_table() {
         &cfg,
         &out,
         &SweepOptions {
-            max_paths: Some(1),
+            max_tasks: Some(1),
             threads: Some(1),
             ..quiet.clone()
         },
     )
     .unwrap();
     assert!(stopped.table.is_none());
-    assert_eq!(stopped.computed_paths, 1);
+    assert_eq!(stopped.micro_solves, 3);
     assert!(!out.exists() && checkpoint_path(&out).exists());
 
     // Without --resume the checkpoint is not overwritten.
@@ -58,7 +58,7 @@ fn a_stopped_run_resumes_to_the_same_table() {
         },
     )
     .unwrap();
-    assert_eq!((resumed.reused_paths, resumed.computed_paths), (1, 2));
+    assert_eq!((resumed.reused_micro_solves, resumed.micro_solves), (3, 3));
     assert!(!checkpoint_path(&out).exists());
     assert_eq!(
         normalized(&read_table(&out).unwrap()),

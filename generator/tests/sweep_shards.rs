@@ -1,6 +1,7 @@
 //! Shards and merge: the shards of a sweep merged give the table of a single
 //! run, bit for bit (the file bytes, with the creation time, wall time and
-//! thread count blanked), whatever the thread count or the shard split.
+//! thread count blanked), whatever the thread count or the shard split
+//! (an empty shard included).
 
 #[path = "sweep_support.rs"]
 mod support;
@@ -35,12 +36,12 @@ fn merged_shards_equal_a_single_run_bit_for_bit() {
     // The file reads back as written.
     assert_eq!(read_table(&single).unwrap(), whole);
 
-    // Shards of 3 (uneven: 2 + 1 + 1 paths), one thread each.
+    // Shards of 3: the two (sample, temperature) groups of 2 fluxes, and an empty shard.
     let mut shards = Vec::new();
     for i in [2, 0, 1] {
         let out = dir.join(format!("shard{i}.h5"));
         let r = run_sweep(&cfg, &out, &options(1, Shard::new(i, 3).unwrap())).unwrap();
-        assert_eq!(r.shard_paths, if i == 0 { 2 } else { 1 });
+        assert_eq!(r.shard_paths, if i == 2 { 0 } else { 2 });
         shards.push(read_table(&out).unwrap());
     }
     let merged = merge_tables(&shards).unwrap();

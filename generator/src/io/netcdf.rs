@@ -596,8 +596,8 @@ pub(crate) mod tests {
             for ih in 0..nh {
                 for it in 0..nt {
                     for is in 0..ns {
-                        let k = (is * nt + it) * nh + ih;
-                        if shard.is_some_and(|s| !s.owns(k)) {
+                        let g = is * nt + it;
+                        if shard.is_some_and(|s| !s.owns(g)) {
                             points.push(PointRecord::not_computed());
                         } else if (ip, ih, is) == (2, 1, 1) {
                             points.push(PointRecord::failed("Newton diverged: \"step 3\" ü"));

@@ -1,7 +1,8 @@
 //! The checkpoint of a running sweep, `<output>.checkpoint` beside the
-//! output: JSON lines, a header and then one line per finished path, appended
-//! and flushed to disk as each path finishes. A killed run loses only the
-//! paths in flight; `tcgen sweep --resume` reads the finished ones back
+//! output: JSON lines, a header and then one line per finished piece of a
+//! path (all its pressures, or one pressure without continuation), appended
+//! and flushed to disk as each task finishes. A killed run loses only the
+//! tasks in flight; `tcgen sweep --resume` reads the finished ones back
 //! (floating-point values as their IEEE-754 bit patterns, so a resumed table
 //! is bit-identical) and drops a torn last line.
 
@@ -14,7 +15,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::io::table::{PointRecord, PointStatus, PointValues, SampleSurfaces};
 use crate::sweep::Shard;
-use crate::sweep::path::PathOutcome;
+use crate::sweep::path::PathPiece;
 use crate::{Error, Result};
 
 const FORMAT: &str = "tcgen-checkpoint";
@@ -71,15 +72,19 @@ struct PointLine {
 #[derive(Serialize, Deserialize)]
 struct PathLine {
     path: usize,
+    /// Index of the first pressure of the piece.
+    #[serde(default)]
+    from: usize,
     points: Vec<PointLine>,
     surfaces: Option<[u64; 4]>,
     setup: f64,
     solve: f64,
 }
 
-fn to_line(k: usize, o: &PathOutcome) -> PathLine {
+fn to_line(k: usize, o: &PathPiece) -> PathLine {
     PathLine {
         path: k,
+        from: o.from,
         points: o
             .points
             .iter()
@@ -107,7 +112,7 @@ fn to_line(k: usize, o: &PathOutcome) -> PathLine {
     }
 }
 
-fn from_line(l: PathLine) -> Option<(usize, PathOutcome)> {
+fn from_line(l: PathLine) -> Option<(usize, PathPiece)> {
     let mut points = Vec::with_capacity(l.points.len());
     for p in l.points {
         let status = PointStatus::from_code(p.s)?;
@@ -143,7 +148,8 @@ fn from_line(l: PathLine) -> Option<(usize, PathOutcome)> {
     });
     Some((
         l.path,
-        PathOutcome {
+        PathPiece {
+            from: l.from,
             points,
             surfaces,
             setup_seconds: l.setup,
@@ -180,7 +186,7 @@ impl Checkpoint {
 
     /// Opens an existing checkpoint for `--resume`: checks that it belongs to
     /// `header`, returns the finished paths, and drops a torn last line.
-    pub fn resume(path: &Path, header: &Header) -> Result<(Self, Vec<(usize, PathOutcome)>)> {
+    pub fn resume(path: &Path, header: &Header) -> Result<(Self, Vec<(usize, PathPiece)>)> {
         let text = std::fs::read(path).map_err(io_err(path))?;
         let complete = text.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
         let body = String::from_utf8_lossy(&text[..complete]);
@@ -214,7 +220,7 @@ impl Checkpoint {
             let parsed = serde_json::from_str::<PathLine>(line)
                 .ok()
                 .and_then(from_line)
-                .filter(|(_, o)| o.points.len() == header.shape[0]);
+                .filter(|(_, o)| o.from + o.points.len() <= header.shape[0]);
             match parsed {
                 Some(p) => done.push(p),
                 None => {
@@ -243,7 +249,7 @@ impl Checkpoint {
     }
 
     /// Appends a finished path and flushes it to disk.
-    pub fn append(&self, k: usize, outcome: &PathOutcome) -> Result<()> {
+    pub fn append(&self, k: usize, outcome: &PathPiece) -> Result<()> {
         let line = serde_json::to_string(&to_line(k, outcome)).expect("serializable");
         let mut f = self.file.lock().unwrap_or_else(|e| e.into_inner());
         f.write_all(format!("{line}\n").as_bytes())
@@ -262,8 +268,9 @@ impl Checkpoint {
 mod tests {
     use super::*;
 
-    fn outcome(j: f64) -> PathOutcome {
-        PathOutcome {
+    fn outcome(j: f64) -> PathPiece {
+        PathPiece {
+            from: 0,
             points: vec![
                 PointRecord::converged(PointValues {
                     jump: j,

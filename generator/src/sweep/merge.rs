@@ -74,14 +74,14 @@ pub fn merge_tables(shards: &[Table]) -> Result<Table> {
     let mut out = first.clone();
     for k in 0..ns * nt * nh {
         let (s, it, ih) = path_indices(k, nh, nt);
-        let owner = tables[k % count];
+        let owner = tables[(k / nh) % count];
         for ip in 0..np {
             let i = out.index(ip, ih, it, s);
             let r = &owner.points[i];
             if r.status == PointStatus::NotComputed {
                 return Err(Error::Config(format!(
                     "shard {}/{count} did not compute path {k} (sample {s}): was it interrupted?",
-                    k % count
+                    (k / nh) % count
                 )));
             }
             out.points[i] = r.clone();

@@ -1,26 +1,31 @@
-//! One path of a sweep: one sample, flux and contact temperature, all
+//! The paths of a sweep: one sample, flux and contact temperature, all
 //! pressures in increasing order by continuation through
-//! [`PathSolver`](crate::homogenize::path::PathSolver).
+//! [`PathSolver`](crate::homogenize::path::PathSolver); the fluxes of one
+//! sample and contact temperature share one solver ([`solve_flux_group`]).
 //!
 //! With `[sweep] continuation = false` every pressure is solved from zero
 //! load with a fresh model instead.
 //!
-//! A point that fails is recorded with its reason and the path goes on: the
-//! solver is rebuilt and the next pressure is approached from zero load
+//! A point that fails is recorded with its reason and the path goes on; if
+//! the solver's state is lost the next pressure is approached from zero load
 //! (the failed state is not trusted). A panic inside the solver is caught
 //! and recorded as a failure of that point.
 
+use std::ops::Range;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::time::Instant;
 
 use crate::homogenize::path::{PathSolver, PointResult, Status};
 use crate::io::table::{PointRecord, PointValues, SampleSurfaces};
 use crate::sample::Case;
+use crate::sample::case::Method;
 use crate::surface::Surface;
 
-/// What one path produced.
+/// A piece of one path: the records of the pressures `from..from + points.len()`.
 #[derive(Clone, Debug, PartialEq)]
-pub struct PathOutcome {
+pub struct PathPiece {
+    /// Index of the first pressure.
+    pub from: usize,
     /// One record per pressure.
     pub points: Vec<PointRecord>,
     /// The sample's surface measures (`None` if the surfaces could not be built).
@@ -96,26 +101,30 @@ pub fn sample_surfaces(case: &Case) -> Option<SampleSurfaces> {
     })
 }
 
-/// Solves every pressure of `case.load.pressures` for the case's flux and
-/// contact temperature, by continuation (or each from zero load with a fresh
-/// model if `continuation` is false); `on_point` sees every record as it is made.
+/// Solves the pressures `range` of `case.load.pressures` for the case's flux
+/// and contact temperature one by one with [`PathSolver::solve_pressure`], by
+/// continuation (or each from zero load with a fresh model if `continuation`
+/// is false); used for the coupled identifications. `on_point` sees every
+/// record as it is made.
 pub fn solve_path(
     case: &Case,
+    range: Range<usize>,
     continuation: bool,
     on_point: &(dyn Fn(&PointRecord) + Sync),
-) -> PathOutcome {
+) -> PathPiece {
     let t = Instant::now();
     let surfaces = catch_unwind(AssertUnwindSafe(|| sample_surfaces(case)))
         .ok()
         .flatten();
-    let mut out = PathOutcome {
-        points: Vec::with_capacity(case.load.pressures.len()),
+    let mut out = PathPiece {
+        from: range.start,
+        points: Vec::with_capacity(range.len()),
         surfaces,
         setup_seconds: t.elapsed().as_secs_f64(),
         solve_seconds: 0.0,
     };
     let mut solver: Option<PathSolver> = None;
-    for &p in &case.load.pressures {
+    for &p in &case.load.pressures[range] {
         if solver.is_none() {
             let t = Instant::now();
             let built = catch_unwind(AssertUnwindSafe(|| PathSolver::new(case)));
@@ -161,24 +170,116 @@ pub fn solve_path(
     out
 }
 
-/// Hook for the flux-sharing solver: solves the paths of one sample and
-/// contact temperature for several fluxes (`cases[j]` differ only in
-/// `load.flux`). Today one [`PathSolver`] per flux; when
-/// `PathSolver::solve_pressure_fluxes(p, &fluxes)` is available, one solver
-/// per group reuses the mechanical phase and the thermal factorization
-/// across the fluxes (same results), and [`FLUX_GROUPS`] becomes `true`.
+/// Solves the paths of one sample and contact temperature for several
+/// fluxes (`cases[j]` differ only in `load.flux`) over the pressures `range`.
+///
+/// Two-phase identifications go through one [`PathSolver`] and
+/// [`PathSolver::solve_pressure_fluxes`]: the mechanical phase and the first
+/// thermal phase are shared by the fluxes, each flux then iterates to
+/// self-consistency from that state. A flux that fails at one pressure is
+/// recorded and the others go on; a failure of the shared phases fails every
+/// flux at that pressure and the next pressure starts afresh from zero load.
+/// A flux's results do not depend on which other fluxes share its solver, so
+/// shards and thread counts give the same table. Coupled identifications
+/// solve each flux on its own ([`solve_path`]).
 pub fn solve_flux_group(
     cases: &[Case],
+    range: Range<usize>,
     continuation: bool,
     on_point: &(dyn Fn(&PointRecord) + Sync),
-) -> Vec<PathOutcome> {
-    cases
-        .iter()
-        .map(|c| solve_path(c, continuation, on_point))
+) -> Vec<PathPiece> {
+    let Some(case) = cases.first() else {
+        return Vec::new();
+    };
+    if matches!(
+        case.homogenization.method,
+        Method::Coupled | Method::Linearized
+    ) {
+        return cases
+            .iter()
+            .map(|c| solve_path(c, range.clone(), continuation, on_point))
+            .collect();
+    }
+    let fluxes: Vec<f64> = cases.iter().map(|c| c.load.flux).collect();
+    let n = fluxes.len();
+    let t = Instant::now();
+    let surfaces = catch_unwind(AssertUnwindSafe(|| sample_surfaces(case)))
+        .ok()
+        .flatten();
+    let (mut setup, mut solve) = (t.elapsed().as_secs_f64(), 0.0);
+    let mut points: Vec<Vec<PointRecord>> = vec![Vec::with_capacity(range.len()); n];
+    let mut solver: Option<PathSolver> = None;
+    for &p in &case.load.pressures[range.clone()] {
+        let records: Vec<PointRecord> = 'point: {
+            if solver.is_none() {
+                let t = Instant::now();
+                let built = catch_unwind(AssertUnwindSafe(|| PathSolver::new(case)));
+                setup += t.elapsed().as_secs_f64();
+                match built {
+                    Ok(Ok(s)) => solver = Some(s),
+                    Ok(Err(e)) => {
+                        break 'point vec![PointRecord::failed(format!("set-up failed: {e}")); n];
+                    }
+                    Err(panic) => {
+                        break 'point vec![
+                            PointRecord::failed(format!(
+                                "set-up failed: internal error (panic): {}",
+                                panic_message(panic.as_ref())
+                            ));
+                            n
+                        ];
+                    }
+                }
+            }
+            let s = solver.as_mut().expect("built above");
+            let t = Instant::now();
+            let result = catch_unwind(AssertUnwindSafe(|| s.solve_pressure_fluxes(p, &fluxes)));
+            solve += t.elapsed().as_secs_f64();
+            match result {
+                Ok(Ok(rs)) if rs.len() == n => rs.iter().map(record).collect(),
+                Ok(Ok(rs)) => {
+                    solver = None;
+                    vec![
+                        PointRecord::failed(format!(
+                            "internal error: {} results for {n} fluxes",
+                            rs.len()
+                        ));
+                        n
+                    ]
+                }
+                Ok(Err(e)) => {
+                    // The shared phases failed: never continue from that state.
+                    solver = None;
+                    vec![PointRecord::failed(e.to_string()); n]
+                }
+                Err(panic) => {
+                    solver = None;
+                    vec![
+                        PointRecord::failed(format!(
+                            "internal error (panic): {}",
+                            panic_message(panic.as_ref())
+                        ));
+                        n
+                    ]
+                }
+            }
+        };
+        if !continuation {
+            solver = None;
+        }
+        for (j, r) in records.into_iter().enumerate() {
+            on_point(&r);
+            points[j].push(r);
+        }
+    }
+    points
+        .into_iter()
+        .map(|points| PathPiece {
+            from: range.start,
+            points,
+            surfaces,
+            setup_seconds: setup / n as f64,
+            solve_seconds: solve / n as f64,
+        })
         .collect()
 }
-
-/// Whether the scheduler groups the paths of one (sample, contact
-/// temperature) into one task (see [`solve_flux_group`]); `false` while each
-/// flux needs its own solver, so that the paths spread over the threads.
-pub const FLUX_GROUPS: bool = false;

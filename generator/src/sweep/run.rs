@@ -1,7 +1,11 @@
-//! The sweep runner: the paths of a shard in parallel (rayon), pressure
-//! continuation within a path, a checkpoint line per finished path, progress,
-//! and the table written atomically at the end.
+//! The sweep runner: the tasks of a shard in parallel (rayon) — the fluxes
+//! of one sample and contact temperature share a solver; with pressure
+//! continuation a task runs all pressures of its paths, without it each
+//! pressure is a task of its own — a checkpoint line per finished piece,
+//! progress, and the table written atomically at the end.
 
+use std::collections::BTreeSet;
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -13,7 +17,7 @@ use crate::io::provenance;
 use crate::io::table::{PointRecord, PointStatus, Table, TableInfo};
 use crate::sweep::checkpoint::{Checkpoint, Header, checkpoint_path};
 use crate::sweep::config::SweepConfig;
-use crate::sweep::path::{FLUX_GROUPS, PathOutcome, solve_flux_group};
+use crate::sweep::path::{PathPiece, solve_flux_group};
 use crate::sweep::progress::{Progress, ProgressMode};
 use crate::sweep::shard::Shard;
 use crate::{Error, Result};
@@ -33,8 +37,8 @@ pub struct SweepOptions {
     pub log_interval: Duration,
     /// Start no new path after this instant (the run stops with its checkpoint; resume later).
     pub deadline: Option<Instant>,
-    /// Start no new path after this many paths finished in this run (as `deadline`).
-    pub max_paths: Option<usize>,
+    /// Start no new task after this many tasks in this run (as `deadline`).
+    pub max_tasks: Option<usize>,
 }
 
 impl Default for SweepOptions {
@@ -46,7 +50,7 @@ impl Default for SweepOptions {
             progress: ProgressMode::Auto,
             log_interval: Duration::from_secs(60),
             deadline: None,
-            max_paths: None,
+            max_tasks: None,
         }
     }
 }
@@ -70,20 +74,23 @@ pub struct Timing {
 #[derive(Clone, Debug)]
 pub struct SweepReport {
     /// The table (complete for this shard), or `None` if the run stopped early
-    /// (deadline or path limit): the checkpoint is kept for `--resume`.
+    /// (deadline or task limit): the checkpoint is kept for `--resume`.
     pub table: Option<Table>,
     /// The output file.
     pub output: PathBuf,
     /// Paths of this shard.
     pub shard_paths: usize,
-    /// Paths read back from the checkpoint.
-    pub reused_paths: usize,
-    /// Paths computed by this run.
-    pub computed_paths: usize,
-    /// Micro-solves (points) computed by this run.
+    /// Micro-solves (points) of this shard.
+    pub shard_micro_solves: usize,
+    /// Micro-solves read back from the checkpoint.
+    pub reused_micro_solves: usize,
+    /// Micro-solves computed by this run.
     pub micro_solves: usize,
     /// Failed points among those computed by this run.
     pub failed_micro_solves: usize,
+    /// Tasks run (a task: the fluxes of one sample and contact temperature,
+    /// over all pressures, or over one pressure without continuation).
+    pub tasks: usize,
     /// Worker threads.
     pub threads: usize,
     /// Timing.
@@ -95,11 +102,11 @@ pub fn path_indices(k: usize, nh: usize, nt: usize) -> (usize, usize, usize) {
     (k / (nh * nt), (k / nh) % nt, k % nh)
 }
 
-/// The table of a configuration from finished paths; paths not given are
-/// [`PointStatus::NotComputed`].
+/// The table of a configuration from finished pieces `(path, piece)`; points
+/// not given are [`PointStatus::NotComputed`].
 pub fn assemble(
     cfg: &SweepConfig,
-    paths: &[(usize, PathOutcome)],
+    pieces: &[(usize, PathPiece)],
     info: TableInfo,
 ) -> Result<Table> {
     let (np, nh, nt, ns) = (
@@ -117,17 +124,18 @@ pub fn assemble(
         surfaces: vec![None; ns],
         info,
     };
-    let mut sorted: Vec<&(usize, PathOutcome)> = paths.iter().collect();
-    sorted.sort_by_key(|(k, _)| *k);
+    let mut sorted: Vec<&(usize, PathPiece)> = pieces.iter().collect();
+    sorted.sort_by_key(|(k, o)| (*k, o.from));
     for (k, o) in sorted {
         let (s, it, ih) = path_indices(*k, nh, nt);
-        if s >= ns || o.points.len() != np {
+        if s >= ns || o.from + o.points.len() > np {
             return Err(Error::Config(format!(
-                "path {k} does not fit the grid {np}×{nh}×{nt}×{ns}"
+                "path {k} (pressures from {}) does not fit the grid {np}×{nh}×{nt}×{ns}",
+                o.from
             )));
         }
-        for (ip, r) in o.points.iter().enumerate() {
-            let i = t.index(ip, ih, it, s);
+        for (j, r) in o.points.iter().enumerate() {
+            let i = t.index(o.from + j, ih, it, s);
             t.points[i] = r.clone();
         }
         if t.surfaces[s].is_none() {
@@ -135,6 +143,49 @@ pub fn assemble(
         }
     }
     Ok(t)
+}
+
+/// One unit of work: the paths `paths` (fluxes of one sample and contact
+/// temperature) over the pressures `pressures`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+struct Task {
+    paths: Vec<usize>,
+    pressures: Range<usize>,
+}
+
+/// The tasks computing the points `(path, pressure)` that `done` lacks among
+/// the `owned` paths: with continuation, each group of paths of one (sample,
+/// temperature) over all pressures; without, each group at each pressure.
+fn tasks(
+    owned: &[usize],
+    done: &BTreeSet<(usize, usize)>,
+    np: usize,
+    nh: usize,
+    continuation: bool,
+) -> Vec<Task> {
+    let mut out: Vec<Task> = Vec::new();
+    let ranges: Vec<Range<usize>> = if continuation {
+        std::iter::once(0..np).collect()
+    } else {
+        (0..np).map(|ip| ip..ip + 1).collect()
+    };
+    for r in ranges {
+        for &k in owned {
+            if r.clone().all(|ip| done.contains(&(k, ip))) {
+                continue;
+            }
+            match out.last_mut() {
+                Some(last) if last.pressures == r && last.paths[0] / nh == k / nh => {
+                    last.paths.push(k)
+                }
+                _ => out.push(Task {
+                    paths: vec![k],
+                    pressures: r.clone(),
+                }),
+            }
+        }
+    }
+    out
 }
 
 /// Runs (or resumes) the shard `options.shard` of a sweep and writes its
@@ -150,10 +201,11 @@ pub fn run_sweep(cfg: &SweepConfig, output: &Path, options: &SweepOptions) -> Re
     );
     let shape = [np, nh, nt, ns];
     let shard = options.shard;
-    let owned: Vec<usize> = (0..ns * nt * nh).filter(|&k| shard.owns(k)).collect();
+    // Shards own (sample, contact temperature) groups: the fluxes of a group share a solver.
+    let owned: Vec<usize> = (0..ns * nt * nh).filter(|&k| shard.owns(k / nh)).collect();
     let header = Header::new(&cfg.sha256, shard, shape);
     let ckpt_path = checkpoint_path(output);
-    let (checkpoint, done) = if ckpt_path.exists() {
+    let (checkpoint, reused) = if ckpt_path.exists() {
         if !options.resume {
             return Err(Error::Config(format!(
                 "{} holds the finished work of an interrupted run: continue it with --resume, or delete it to start afresh",
@@ -165,29 +217,48 @@ pub fn run_sweep(cfg: &SweepConfig, output: &Path, options: &SweepOptions) -> Re
         (Checkpoint::create(&ckpt_path, &header)?, Vec::new())
     };
     let mut finished = std::collections::BTreeMap::new();
-    for (k, o) in done {
-        if !shard.owns(k) || k >= ns * nt * nh {
+    for (k, o) in &reused {
+        if !owned.contains(k) {
             return Err(Error::Config(format!(
                 "{}: path {k} is not in shard {shard}",
                 ckpt_path.display()
             )));
         }
-        finished.insert(k, o);
-    }
-    let reused_paths = finished.len();
-    let todo: Vec<usize> = owned
-        .iter()
-        .copied()
-        .filter(|k| !finished.contains_key(k))
-        .collect();
-    // Tasks: one path each, or the fluxes of one (sample, temperature) together.
-    let mut tasks: Vec<Vec<usize>> = Vec::new();
-    for &k in &todo {
-        match tasks.last_mut() {
-            Some(last) if FLUX_GROUPS && last[0] / nh == k / nh => last.push(k),
-            _ => tasks.push(vec![k]),
+        for (j, r) in o.points.iter().enumerate() {
+            finished.insert((*k, o.from + j), (r.clone(), o.surfaces));
         }
     }
+    // A group counts as done at a pressure only if all its paths are (a kill
+    // between the lines of one task leaves a partial group): the shared
+    // solver then recomputes the whole group, as in an uninterrupted run.
+    for g in owned.iter().map(|k| k / nh).collect::<BTreeSet<_>>() {
+        let paths: Vec<usize> = owned.iter().copied().filter(|k| k / nh == g).collect();
+        for ip in 0..np {
+            if !paths.iter().all(|&k| finished.contains_key(&(k, ip))) {
+                for &k in &paths {
+                    finished.remove(&(k, ip));
+                }
+            }
+        }
+    }
+    let done: BTreeSet<(usize, usize)> = finished.keys().copied().collect();
+    let reused: Vec<(usize, PathPiece)> = finished
+        .into_iter()
+        .map(|((k, ip), (r, surfaces))| {
+            (
+                k,
+                PathPiece {
+                    from: ip,
+                    points: vec![r],
+                    surfaces,
+                    setup_seconds: 0.0,
+                    solve_seconds: 0.0,
+                },
+            )
+        })
+        .collect();
+    let reused_micro_solves = done.len();
+    let todo = tasks(&owned, &done, np, nh, cfg.sweep.continuation);
     let pool = {
         let mut b = rayon::ThreadPoolBuilder::new();
         if let Some(n) = options.threads {
@@ -197,26 +268,30 @@ pub fn run_sweep(cfg: &SweepConfig, output: &Path, options: &SweepOptions) -> Re
             .map_err(|e| Error::Config(format!("thread pool: {e}")))?
     };
     let threads = pool.current_num_threads();
-    let progress = Progress::new(options.progress, todo.len() * np, options.log_interval);
-    let results: Mutex<Vec<(usize, PathOutcome)>> = Mutex::new(Vec::new());
+    let total: usize = todo.iter().map(|t| t.paths.len() * t.pressures.len()).sum();
+    let progress = Progress::new(options.progress, total, options.log_interval);
+    let results: Mutex<Vec<(usize, PathPiece)>> = Mutex::new(Vec::new());
     let first_error: Mutex<Option<Error>> = Mutex::new(None);
     let stop = AtomicBool::new(false);
-    let started_paths = AtomicUsize::new(0);
+    let started = AtomicUsize::new(0);
     let checkpoint_time = Mutex::new(0.0);
+    let ran = AtomicUsize::new(0);
     pool.install(|| {
-        tasks.par_iter().for_each(|task| {
+        todo.par_iter().for_each(|task| {
             if stop.load(Ordering::SeqCst) || options.deadline.is_some_and(|d| Instant::now() >= d)
             {
                 stop.store(true, Ordering::SeqCst);
                 return;
             }
-            if let Some(m) = options.max_paths
-                && started_paths.fetch_add(task.len(), Ordering::SeqCst) >= m
+            if let Some(m) = options.max_tasks
+                && started.fetch_add(1, Ordering::SeqCst) >= m
             {
                 stop.store(true, Ordering::SeqCst);
                 return;
             }
+            ran.fetch_add(1, Ordering::SeqCst);
             let cases: Vec<_> = task
+                .paths
                 .iter()
                 .map(|&k| {
                     let (s, it, ih) = path_indices(k, nh, nt);
@@ -224,8 +299,13 @@ pub fn run_sweep(cfg: &SweepConfig, output: &Path, options: &SweepOptions) -> Re
                 })
                 .collect();
             let on_point = |r: &PointRecord| progress.point(r.status != PointStatus::Converged);
-            let outcomes = solve_flux_group(&cases, cfg.sweep.continuation, &on_point);
-            for (&k, o) in task.iter().zip(outcomes) {
+            let pieces = solve_flux_group(
+                &cases,
+                task.pressures.clone(),
+                cfg.sweep.continuation,
+                &on_point,
+            );
+            for (&k, o) in task.paths.iter().zip(pieces) {
                 let t = Instant::now();
                 if let Err(e) = checkpoint.append(k, &o) {
                     first_error
@@ -258,8 +338,7 @@ pub fn run_sweep(cfg: &SweepConfig, output: &Path, options: &SweepOptions) -> Re
         timing.setup += o.setup_seconds;
         timing.solve += o.solve_seconds;
     }
-    let computed_paths = new.len();
-    let micro_solves = computed_paths * np;
+    let micro_solves: usize = new.iter().map(|(_, o)| o.points.len()).sum();
     let failed_micro_solves = new
         .iter()
         .flat_map(|(_, o)| &o.points)
@@ -269,19 +348,20 @@ pub fn run_sweep(cfg: &SweepConfig, output: &Path, options: &SweepOptions) -> Re
         table: None,
         output: output.to_path_buf(),
         shard_paths: owned.len(),
-        reused_paths,
-        computed_paths,
+        shard_micro_solves: owned.len() * np,
+        reused_micro_solves,
         micro_solves,
         failed_micro_solves,
+        tasks: ran.into_inner(),
         threads,
         timing,
     };
-    finished.extend(new);
-    if finished.len() < owned.len() {
+    if reused_micro_solves + micro_solves < owned.len() * np {
         report.timing.wall = start.elapsed().as_secs_f64();
         return Ok(report);
     }
-    let all: Vec<(usize, PathOutcome)> = finished.into_iter().collect();
+    let mut all = reused;
+    all.extend(new);
     let info = TableInfo {
         config: cfg.resolved.clone(),
         config_sha256: cfg.sha256.clone(),
@@ -308,6 +388,30 @@ pub fn run_sweep(cfg: &SweepConfig, output: &Path, options: &SweepOptions) -> Re
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn tasks_group_fluxes_and_skip_finished_points() {
+        // 2 samples × 1 temperature × 3 fluxes; shard 0/2 owns paths 0, 2, 4.
+        let owned = [0, 2, 4];
+        let mut done = BTreeSet::new();
+        let t = tasks(&owned, &done, 2, 3, true);
+        assert_eq!(t.len(), 2);
+        assert_eq!(
+            (t[0].paths.clone(), t[0].pressures.clone()),
+            (vec![0, 2], 0..2)
+        );
+        assert_eq!(
+            (t[1].paths.clone(), t[1].pressures.clone()),
+            (vec![4], 0..2)
+        );
+        done.extend([(0, 0), (0, 1), (2, 0)]);
+        let t = tasks(&owned, &done, 2, 3, false);
+        let got: Vec<_> = t
+            .iter()
+            .map(|t| (t.paths.clone(), t.pressures.clone()))
+            .collect();
+        assert_eq!(got, vec![(vec![4], 0..1), (vec![2], 1..2), (vec![4], 1..2)]);
+    }
 
     #[test]
     fn path_numbering_round_trips() {

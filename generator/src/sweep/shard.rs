@@ -2,9 +2,11 @@
 //! (`tcgen sweep --shard i/n`, then `tcgen merge`).
 //!
 //! A *path* is one `(sample, contact temperature, flux)` with all its
-//! pressures (solved in increasing order, by continuation). Paths are numbered
-//! `k = (s·n_θ + t)·n_h + h` and shard `i` of `n` computes the paths with
-//! `k mod n = i` (0-based `i`). The assignment depends only on the grid shape.
+//! pressures (solved in increasing order, by continuation); paths are
+//! numbered `k = (s·n_θ + t)·n_h + h`. The fluxes of one *group*
+//! `g = s·n_θ + t = ⌊k/n_h⌋` share a solver, so shards split groups: shard
+//! `i` of `n` computes the groups with `g mod n = i` (0-based `i`), i.e. at
+//! most `n_s·n_θ` shards do work. The assignment depends only on the grid shape.
 
 use std::fmt;
 use std::str::FromStr;
@@ -36,9 +38,9 @@ impl Shard {
         Ok(Shard { index, count })
     }
 
-    /// Whether this shard computes path number `k`.
-    pub fn owns(&self, k: usize) -> bool {
-        k % self.count == self.index
+    /// Whether this shard computes group number `g` (see the module documentation).
+    pub fn owns(&self, g: usize) -> bool {
+        g % self.count == self.index
     }
 
     /// Whether this is the whole sweep.
