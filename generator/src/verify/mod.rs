@@ -105,6 +105,46 @@ impl Check {
     }
 }
 
+/// A curve computed by a verification case, for the plots of
+/// `docs/validation.md`: `y(x)` with axis labels (units included).
+#[derive(Clone, Debug, Serialize)]
+pub struct Series {
+    /// Case name (as in [`Check::case`]).
+    pub case: String,
+    /// Curve name, unique within the case (e.g. `"PR, jump vs height"`).
+    pub name: String,
+    /// Abscissa label with units.
+    pub x_label: String,
+    /// Ordinate label with units.
+    pub y_label: String,
+    /// Abscissae.
+    pub x: Vec<f64>,
+    /// Ordinates.
+    pub y: Vec<f64>,
+}
+
+static SERIES: std::sync::Mutex<Vec<Series>> = std::sync::Mutex::new(Vec::new());
+
+/// Records a curve computed by a case (collected by [`take_series`]; costs
+/// nothing else, so cases record what they compute unconditionally).
+pub fn record_series(case: &str, name: &str, labels: (&str, &str), x: &[f64], y: &[f64]) {
+    assert_eq!(x.len(), y.len(), "series {case}/{name}: x and y lengths differ");
+    let s = Series {
+        case: case.into(),
+        name: name.into(),
+        x_label: labels.0.into(),
+        y_label: labels.1.into(),
+        x: x.to_vec(),
+        y: y.to_vec(),
+    };
+    SERIES.lock().unwrap_or_else(|e| e.into_inner()).push(s);
+}
+
+/// Takes every series recorded so far (in recording order).
+pub fn take_series() -> Vec<Series> {
+    std::mem::take(&mut *SERIES.lock().unwrap_or_else(|e| e.into_inner()))
+}
+
 /// A verification case: a name and the function that runs it.
 pub struct Case {
     /// Name (also the filter key).
