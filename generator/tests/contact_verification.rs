@@ -146,14 +146,14 @@ fn long_westergaard_richardson() {
 }
 
 /// The Sect. 5.7 sinusoid on the meshes of `tables/sinusoid_on_flat.toml`
-/// for p = 2, 3 with LN and PR sides (`TCGEN_LONG_TESTS=1`).
+/// for p = 1, 2, 3 with LN and PR sides (`TCGEN_LONG_TESTS=1`).
 #[test]
 fn long_robustness_full_mesh() {
     if !long() {
         return;
     }
     let mut checks = Vec::new();
-    for degree in [2, 3] {
+    for degree in [1, 2, 3] {
         for lateral in [LateralCondition::Periodic, LateralCondition::Linear] {
             let (c, path) =
                 contact::robustness_checks(degree, lateral, [32, 16], [27, 14]).unwrap();
@@ -200,6 +200,7 @@ fn long_patch_quadrature_study() {
             &PatchSetup::new(Interface::Flat),
             1.0e4,
             points,
+            tcgen::contact::Integration::Element,
         )
         .unwrap();
         checks.push(Check::with_error(

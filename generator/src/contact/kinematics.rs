@@ -34,6 +34,10 @@ pub struct PointGeometry {
     pub normal_sign: f64,
     /// The projection hit an end of a non-periodic master: `η` stays at the end.
     pub clamped: bool,
+    /// The closest point is a corner of the master (the slave point lies in
+    /// its normal cone): `η` stays at the corner and the gap is the signed
+    /// distance to it.
+    pub vertex: bool,
 }
 
 impl PointGeometry {
@@ -142,7 +146,7 @@ fn slave_point<D: DualNum<Primitive = f64>>(g: &PointGeometry, z: &[D]) -> ([D; 
 /// `φ(η) = (x_s − x_m(η))·x_m'(η) = 0` from `δ = 0`.
 fn projection_delta<D: DualNum<Primitive = f64>>(g: &PointGeometry, z: &[D], xs: &[D; 2]) -> D {
     let mut delta = D::from(0.0);
-    if g.clamped {
+    if g.clamped || g.vertex {
         return delta;
     }
     for _ in 0..2 {
@@ -166,7 +170,19 @@ pub fn normal_gap<D: DualNum<Primitive = f64>>(g: &PointGeometry, z: &[D]) -> D 
     // n = sign · (−t_y, t_x) / |t|
     let nx = -m.dx[1].clone() * g.normal_sign / &len;
     let ny = m.dx[0].clone() * g.normal_sign / &len;
-    (xs[0].clone() - &m.x[0]) * nx + (xs[1].clone() - &m.x[1]) * ny
+    let r = [xs[0].clone() - &m.x[0], xs[1].clone() - &m.x[1]];
+    let along_normal = r[0].clone() * nx + r[1].clone() * ny;
+    if g.vertex {
+        // At a corner: the distance, signed by the side (the normal cone lies
+        // between the normals of the two segments, so either one tells it).
+        let distance = (r[0].clone() * &r[0] + r[1].clone() * &r[1]).sqrt();
+        return if along_normal.re() >= 0.0 {
+            distance
+        } else {
+            -distance
+        };
+    }
+    along_normal
 }
 
 /// Temperature jump `ϑc = θ_s − θ_m(η)` (4.1).
@@ -276,6 +292,7 @@ mod tests {
             master_ders: ders,
             normal_sign: 1.0,
             clamped: false,
+            vertex: false,
         };
         let z = vec![
             0.01, -0.02, 1.1, 0.03, 0.01, 1.05, -0.01, 0.02, 1.0, 0.02, -0.01, 0.9, 0.0, 0.03,

@@ -3,7 +3,8 @@
 //! - [`projection`]: closest-point projection onto the master, periodic images;
 //! - [`kinematics`]: gap and temperature jump with exact AD derivatives;
 //! - [`mortar`]: lumped mortar integrals (4.8), augmented Lagrangian (4.9)–(4.10),
-//!   constitutive thermal contact, continuum option.
+//!   constitutive thermal contact, continuum option;
+//! - [`segments`]: segment-based integration of the mortar integrals.
 
 use serde::{Deserialize, Serialize};
 
@@ -12,6 +13,7 @@ use crate::{Error, Result};
 pub mod kinematics;
 pub mod mortar;
 pub mod projection;
+pub mod segments;
 
 pub use mortar::{ContactInterface, Unknowns};
 
@@ -65,6 +67,21 @@ pub enum ThermalMethod {
     Continuum,
 }
 
+/// How the mortar integrals (4.8) are integrated on the slave surface.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Integration {
+    /// Gauss points per slave element, fixed in the slave (the paper's choice).
+    Element,
+    /// Slave elements split where the projection changes master piece; exact
+    /// on C0 masters ([`segments`]).
+    Segment,
+    /// Segment-based where the master has C0 corners (degree 1, repeated
+    /// knots), element-based otherwise.
+    #[default]
+    Auto,
+}
+
 /// Contact settings (`[contact]` of the case file; see `schemas/case.md`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(try_from = "ContactKeys", into = "ContactKeys")]
@@ -77,6 +94,8 @@ pub struct ContactSettings {
     pub interface_points: usize,
     /// Normal penalty factor: εN = factor · E / h (h the slave element size); default 1.
     pub mechanical_penalty: Option<f64>,
+    /// Integration of the mortar integrals.
+    pub integration: Integration,
 }
 
 impl Default for ContactSettings {
@@ -86,6 +105,7 @@ impl Default for ContactSettings {
             thermal_method: ThermalMethod::Mortar,
             interface_points: 8,
             mechanical_penalty: None,
+            integration: Integration::Auto,
         }
     }
 }
@@ -106,6 +126,7 @@ struct ContactKeys {
     interface_points: usize,
     #[serde(skip_serializing_if = "Option::is_none")]
     mechanical_penalty: Option<f64>,
+    integration: Integration,
 }
 
 impl Default for ContactKeys {
@@ -125,6 +146,7 @@ impl From<ContactSettings> for ContactKeys {
             method: c.thermal_method,
             interface_points: c.interface_points,
             mechanical_penalty: c.mechanical_penalty,
+            integration: c.integration,
         };
         match c.thermal {
             ThermalContact::Constraint {
@@ -171,6 +193,7 @@ impl TryFrom<ContactKeys> for ContactSettings {
             thermal_method: k.method,
             interface_points: k.interface_points,
             mechanical_penalty: k.mechanical_penalty,
+            integration: k.integration,
         })
     }
 }

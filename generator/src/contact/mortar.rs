@@ -25,8 +25,11 @@ use crate::basis::bspline::basis_ders;
 use crate::contact::kinematics::{
     Derivatives, PointGeometry, Quantity, differentiate_one, value_only,
 };
-use crate::contact::projection::{Projection, project};
-use crate::contact::{ContactSettings, ThermalContact, ThermalEnforcement, ThermalMethod};
+use crate::contact::projection::{MasterSamples, Projection, project, project_on_span};
+use crate::contact::segments::{Breakpoint, Segmenter};
+use crate::contact::{
+    ContactSettings, Integration, ThermalContact, ThermalEnforcement, ThermalMethod,
+};
 use crate::geometry::{NurbsPatch, Side};
 use crate::solve::dofs::DofMap;
 use crate::{Error, Result};
@@ -42,6 +45,13 @@ pub struct SlavePoint {
     pub basis: Vec<f64>,
     /// Gauss weight × reference line Jacobian.
     pub weight: f64,
+}
+
+/// The slave node whose contact element carries a point's continuum terms:
+/// the one with the largest basis value.
+fn owner_of(p: &SlavePoint) -> usize {
+    let a = (0..p.basis.len()).fold(0, |b, a| if p.basis[a] > p.basis[b] { a } else { b });
+    p.conn[a]
 }
 
 /// What one integration point sees in the current configuration.
@@ -108,6 +118,28 @@ pub struct ContactInterface {
     pub frozen: Option<(Vec<f64>, Vec<bool>)>,
     /// Master face nodes coupled to each slave node in the current pattern.
     pub band: Vec<BTreeSet<usize>>,
+    /// Segment-based integration (then `points` follow the configuration).
+    segmenter: Option<Segmenter>,
+    /// Breakpoints of the current segmentation.
+    breakpoints: Vec<Breakpoint>,
+    /// Second-derivative terms of the weighted gaps from moving breakpoints.
+    break_terms: Vec<BreakTerm>,
+}
+
+/// The motion of a breakpoint `ξb` between two master pieces where the gap's
+/// gradient jumps (two orthogonal projections at equal distance): it adds
+/// `−N^I J (∇g_L − ∇g_R) ⊗ (∇g_L − ∇g_R) / ∂ξ(g_L − g_R)` to `H^I`, since
+/// `∂ξb/∂u = −(∇g_L − ∇g_R) / ∂ξ(g_L − g_R)` (segment-based integration).
+#[derive(Clone, Debug)]
+struct BreakTerm {
+    /// Slave face nodes and their `N^I(ξb) · J(ξb)`.
+    nodes: Vec<(usize, f64)>,
+    /// Unknowns of the gradient jump.
+    dofs: Vec<(usize, usize)>,
+    /// `∇g_L − ∇g_R` over `dofs`.
+    jump: Vec<f64>,
+    /// `∂ξ(g_L − g_R)`.
+    slope: f64,
 }
 
 impl ContactInterface {
@@ -123,7 +155,7 @@ impl ContactInterface {
         settings.validate()?;
         let (sp, soff, sdir, sside) = slave;
         let (mp, moff, mdir, mside) = master;
-        let (_, sidx) = sp.face(sdir, sside);
+        let (slave_face, sidx) = sp.face(sdir, sside);
         let (master_face, midx) = mp.face(mdir, mside);
         if master_face.param_dim() != 1 {
             return Err(Error::Geometry(
@@ -164,14 +196,7 @@ impl ContactInterface {
                 });
             }
         }
-        let owner = points
-            .iter()
-            .map(|p: &SlavePoint| {
-                let a =
-                    (0..p.basis.len()).fold(0, |b, a| if p.basis[a] > p.basis[b] { a } else { b });
-                p.conn[a]
-            })
-            .collect();
+        let owner = points.iter().map(owner_of).collect();
         if lumped.iter().any(|&a| a <= 0.0) {
             return Err(Error::Geometry(
                 "a lumped mortar area ⟨N^I⟩ is not positive".into(),
@@ -191,6 +216,20 @@ impl ContactInterface {
         } else {
             -1.0
         };
+        let kv_m = &master_face.knots()[0];
+        let c0_master = kv_m.degree() == 1
+            || kv_m
+                .breaks()
+                .iter()
+                .skip(1)
+                .take(kv_m.n_elements().saturating_sub(1))
+                .any(|&u| kv_m.multiplicity(u) >= kv_m.degree());
+        let segmenter = match settings.integration {
+            Integration::Segment => true,
+            Integration::Auto => c0_master,
+            Integration::Element => false,
+        }
+        .then(|| Segmenter::new(slave_face, settings.interface_points));
         let n_s = slave_nodes.len();
         let eps_n = settings.mechanical_penalty.unwrap_or(1.0) / h_min;
         let eps_t = match settings.thermal {
@@ -220,7 +259,132 @@ impl ContactInterface {
             active: vec![false; n_s],
             frozen: None,
             band: vec![BTreeSet::new(); n_s],
+            segmenter,
+            breakpoints: Vec::new(),
+            break_terms: Vec::new(),
         })
+    }
+
+    /// Re-segments the slave surface for the current configuration
+    /// (segment-based integration): new points, and which points each
+    /// slave node and each continuum element sees.
+    fn segment(
+        &mut self,
+        state: &[f64],
+        curve: &NurbsPatch,
+        samples: &MasterSamples,
+    ) -> Result<()> {
+        let Some(seg) = &self.segmenter else {
+            return Ok(());
+        };
+        let face = seg.face();
+        let current: Vec<[f64; 3]> = self
+            .slave_nodes
+            .iter()
+            .zip(&self.slave_ref)
+            .map(|(&n, x)| [x[0] + state[n * 3], x[1] + state[n * 3 + 1], 0.0])
+            .collect();
+        let current = NurbsPatch::new(face.knots().to_vec(), current, face.weights().to_vec())?;
+        let period = self.period;
+        let (points, breakpoints) = seg.points(&current, |x| {
+            let pr = project(curve, x, None, period, samples)?;
+            let image = period.map_or(0, |w| (pr.shift / w).round() as i64);
+            Ok((pr.span, image, pr.vertex))
+        })?;
+        let mut node_points = vec![Vec::new(); self.slave_nodes.len()];
+        for (id, p) in points.iter().enumerate() {
+            for &i in &p.conn {
+                node_points[i].push(id);
+            }
+        }
+        self.owner = points.iter().map(owner_of).collect();
+        self.node_points = node_points;
+        self.points = points;
+        self.breakpoints = breakpoints;
+        Ok(())
+    }
+
+    /// The [`BreakTerm`]s of the current breakpoints.
+    fn break_terms(&self, state: &[f64], curve: &NurbsPatch) -> Vec<BreakTerm> {
+        let Some(seg) = &self.segmenter else {
+            return Vec::new();
+        };
+        let face = seg.face();
+        let mut basis = crate::basis::RationalBasis::default();
+        let mut out = Vec::new();
+        for b in &self.breakpoints {
+            let (l, r) = b.pieces;
+            if l.2 || r.2 {
+                // A corner on either side: the gap's gradient is continuous there.
+                continue;
+            }
+            face.basis_in_spans(&[b.span], &[b.xi], 1, &mut basis);
+            let (mut x, mut dx, mut dx_ref) = ([0.0; 2], [0.0; 2], [0.0; 2]);
+            for (a, &c) in basis.indices.iter().enumerate() {
+                let n = self.slave_nodes[c];
+                for k in 0..2 {
+                    let cur = self.slave_ref[c][k] + state[n * 3 + k];
+                    x[k] += basis.values[a] * cur;
+                    dx[k] += basis.d1[a][0] * cur;
+                    dx_ref[k] += basis.d1[a][0] * self.slave_ref[c][k];
+                }
+            }
+            let shift = |piece: (usize, i64, bool)| self.period.map_or(0.0, |w| piece.1 as f64 * w);
+            let (Some(pl), Some(pr)) = (
+                project_on_span(curve, x, l.0, shift(l)),
+                project_on_span(curve, x, r.0, shift(r)),
+            ) else {
+                continue;
+            };
+            let sides = [pl, pr].map(|p| {
+                let st = self.point_state(state, (&basis.values, &basis.indices), p, (true, false));
+                let mut dofs = Vec::new();
+                for n in basis
+                    .indices
+                    .iter()
+                    .map(|&c| self.slave_nodes[c])
+                    .chain(st.master.iter().map(|&j| self.master_nodes[j]))
+                {
+                    dofs.extend((0..3).map(|f| (n, f)));
+                }
+                // ∂g/∂x_s = n: the slave displacement gradients sum to it.
+                let mut normal = [0.0; 2];
+                for a in 0..basis.indices.len() {
+                    normal[0] += st.gap.grad[3 * a];
+                    normal[1] += st.gap.grad[3 * a + 1];
+                }
+                (dofs, st.gap.grad, normal)
+            });
+            let dn = [sides[0].2[0] - sides[1].2[0], sides[0].2[1] - sides[1].2[1]];
+            if dn[0].hypot(dn[1]) < 1e-8 {
+                continue;
+            }
+            let slope = dn[0] * dx[0] + dn[1] * dx[1];
+            let mut dofs: Vec<(usize, usize)> =
+                sides[0].0.iter().chain(&sides[1].0).copied().collect();
+            dofs.sort_unstable();
+            dofs.dedup();
+            let mut jump = vec![0.0; dofs.len()];
+            for (side, sign) in [(&sides[0], 1.0), (&sides[1], -1.0)] {
+                for (d, g) in side.0.iter().zip(&side.1) {
+                    let k = dofs.binary_search(d).expect("dof of a side");
+                    jump[k] += sign * g;
+                }
+            }
+            let jac = dx_ref[0].hypot(dx_ref[1]);
+            out.push(BreakTerm {
+                nodes: basis
+                    .indices
+                    .iter()
+                    .zip(&basis.values)
+                    .map(|(&c, &n)| (c, n * jac))
+                    .collect(),
+                dofs,
+                jump,
+                slope,
+            });
+        }
+        out
     }
 
     /// Number of slave control points (= multipliers per family).
@@ -247,10 +411,13 @@ impl ContactInterface {
             master_cur,
             self.master_face.weights().to_vec(),
         )?;
-        let kv = &curve.knots()[0];
-        let p = kv.degree();
-        let previous = std::mem::take(&mut self.state);
-        let samples = crate::contact::projection::MasterSamples::new(&curve);
+        let mut previous = std::mem::take(&mut self.state);
+        let samples = MasterSamples::new(&curve);
+        if self.segmenter.is_some() {
+            self.segment(state, &curve, &samples)?;
+            // The points moved: no previous projection to start from.
+            previous.clear();
+        }
         let mut out = Vec::with_capacity(self.points.len());
         for (i, sp) in self.points.iter().enumerate() {
             let mut xs = [0.0; 2];
@@ -260,57 +427,69 @@ impl ContactInterface {
             }
             let guess = previous.get(i).map(|s| s.projection.eta);
             let pr = project(&curve, xs, guess, self.period, &samples)?;
-            let span = kv.find_span(pr.eta);
-            let ders = basis_ders(kv, span, pr.eta, p);
-            let master: Vec<usize> = (span - p..=span).collect();
-            let geo = PointGeometry {
-                slave_basis: sp.basis.clone(),
-                slave_x: sp
-                    .conn
-                    .iter()
-                    .map(|&c| [self.slave_ref[c][0], self.slave_ref[c][1]])
-                    .collect(),
-                master_x: master
-                    .iter()
-                    .map(|&j| [self.master_ref[j][0] + pr.shift, self.master_ref[j][1]])
-                    .collect(),
-                master_w: master
-                    .iter()
-                    .map(|&j| self.master_face.weights()[j])
-                    .collect(),
-                master_ders: ders,
-                normal_sign: self.normal_sign,
-                clamped: pr.clamped,
-            };
-            let mut z = Vec::with_capacity(geo.n_local());
-            for &c in &sp.conn {
-                let n = self.slave_nodes[c];
-                z.extend_from_slice(&state[n * nf..n * nf + 3]);
-            }
-            for &j in &master {
-                let n = self.master_nodes[j];
-                z.extend_from_slice(&state[n * nf..n * nf + 3]);
-            }
-            let eval = |want: bool, q: Quantity| {
-                if want {
-                    differentiate_one(&geo, &z, q)
-                } else {
-                    value_only(&geo, &z, q)
-                }
-            };
-            let (gap, jump) = (
-                eval(derivatives.0, Quantity::Gap),
-                eval(derivatives.1, Quantity::Jump),
-            );
-            out.push(PointState {
-                master,
-                projection: pr,
-                gap,
-                jump,
-            });
+            out.push(self.point_state(state, (&sp.basis, &sp.conn), pr, derivatives));
         }
         self.state = out;
+        self.break_terms = if derivatives.0 {
+            self.break_terms(state, &curve)
+        } else {
+            Vec::new()
+        };
         Ok(())
+    }
+
+    /// Gap and jump at a slave point (basis values and face nodes) whose
+    /// projection is `pr`, differentiated as `derivatives` = (gap, jump) asks.
+    fn point_state(
+        &self,
+        state: &[f64],
+        (basis, conn): (&[f64], &[usize]),
+        pr: Projection,
+        derivatives: (bool, bool),
+    ) -> PointState {
+        let kv = &self.master_face.knots()[0];
+        let p = kv.degree();
+        let master: Vec<usize> = (pr.span - p..=pr.span).collect();
+        let geo = PointGeometry {
+            slave_basis: basis.to_vec(),
+            slave_x: conn
+                .iter()
+                .map(|&c| [self.slave_ref[c][0], self.slave_ref[c][1]])
+                .collect(),
+            master_x: master
+                .iter()
+                .map(|&j| [self.master_ref[j][0] + pr.shift, self.master_ref[j][1]])
+                .collect(),
+            master_w: master
+                .iter()
+                .map(|&j| self.master_face.weights()[j])
+                .collect(),
+            master_ders: basis_ders(kv, pr.span, pr.eta, p),
+            normal_sign: self.normal_sign,
+            clamped: pr.clamped,
+            vertex: pr.vertex,
+        };
+        let mut z = Vec::with_capacity(geo.n_local());
+        for n in conn
+            .iter()
+            .map(|&c| self.slave_nodes[c])
+            .chain(master.iter().map(|&j| self.master_nodes[j]))
+        {
+            z.extend_from_slice(&state[n * 3..n * 3 + 3]);
+        }
+        let eval = |want: bool, q: Quantity| {
+            if want {
+                differentiate_one(&geo, &z, q)
+            } else {
+                value_only(&geo, &z, q)
+            }
+        };
+        PointState {
+            gap: eval(derivatives.0, Quantity::Gap),
+            jump: eval(derivatives.1, Quantity::Jump),
+            master,
+            projection: pr,
+        }
     }
 
     /// Local unknowns `(node, field)` of integration point `q`, in the order of its kinematics.
@@ -520,6 +699,22 @@ impl ContactInterface {
                             let Some(ib) = *ib else { continue };
                             hv[ia * nd + ib] += w * d.hess[a * m + b];
                         }
+                    }
+                }
+            }
+        }
+        if want_h {
+            for t in &self.break_terms {
+                let Some(&(_, w)) = t.nodes.iter().find(|(c, _)| *c == i) else {
+                    continue;
+                };
+                let map: Vec<Option<usize>> =
+                    t.dofs.iter().map(|d| dofs.binary_search(d).ok()).collect();
+                for (a, ia) in map.iter().enumerate() {
+                    let Some(ia) = *ia else { continue };
+                    for (b, ib) in map.iter().enumerate() {
+                        let Some(ib) = *ib else { continue };
+                        h[ia * nd + ib] -= w * t.jump[a] * t.jump[b] / t.slope;
                     }
                 }
             }

@@ -1,8 +1,18 @@
 //! Closest-point projection of a slave point onto the master NURBS curve
-//! (spec §6): global search over samples of the curve for a starting guess,
-//! Newton on `φ(η) = (x_s − x_m(η))·x_m'(η) = 0`, clamping at the ends of a
-//! non-periodic master, and the periodic images of the master (PR conditions).
+//! (spec §6): the minimum distance over candidate knot spans (those near the
+//! previous projection and near the closest samples of the curve, and their
+//! neighbours), each by Newton on `φ(η) = (x_s − x_m(η))·x_m'(η) = 0`
+//! clamped to the span; the periodic images of the master (PR conditions).
+//!
+//! Where the closest point is a C0 corner of the master (always the case
+//! between the segments of a degree-1 master, and at the seam of a periodic
+//! one) and the slave point lies in the corner's normal cone, no orthogonal
+//! projection exists: the projection is the corner itself ([`Projection::vertex`]),
+//! and the gap is the signed distance to it, which joins the gaps of the two
+//! segments with a continuous normal (so Newton does not alternate between
+//! the two segments).
 
+use crate::basis::bspline::basis_ders_into;
 use crate::geometry::NurbsPatch;
 use crate::{Error, Result};
 
@@ -11,123 +21,134 @@ use crate::{Error, Result};
 pub struct Projection {
     /// Master curve parameter.
     pub eta: f64,
+    /// Knot span whose polynomial piece holds the projection (for a
+    /// projection at a knot, the side on which it is orthogonal).
+    pub span: usize,
     /// Shift `k·W` added to the master's x coordinates (periodic image).
     pub shift: f64,
     /// The projection stopped at an end of a non-periodic master.
     pub clamped: bool,
+    /// The closest point is a corner of the master (no orthogonal projection).
+    pub vertex: bool,
     /// Distance to the projected point.
     pub distance: f64,
 }
 
-/// Newton from `eta0` on one image; returns `(η, clamped, distance²)`.
-fn newton(curve: &NurbsPatch, x: [f64; 2], eta0: f64, lo: f64, hi: f64) -> (f64, bool, f64) {
-    let mut eta = eta0.clamp(lo, hi);
-    let mut clamped = false;
-    for _ in 0..40 {
-        let d = curve.curve_derivatives(eta, 2);
-        let r = [x[0] - d[0][0], x[1] - d[0][1]];
-        let phi = r[0] * d[1][0] + r[1] * d[1][1];
-        let dphi = -(d[1][0] * d[1][0] + d[1][1] * d[1][1]) + r[0] * d[2][0] + r[1] * d[2][1];
-        // Fall back to a gradient-like step where the curve is locally concave toward x.
-        let step = if dphi < 0.0 {
-            -phi / dphi
-        } else {
-            phi / (d[1][0] * d[1][0] + d[1][1] * d[1][1])
-        };
-        let next = eta + step;
-        if next <= lo || next >= hi {
-            let e = next.clamp(lo, hi);
-            if (e - eta).abs() < 1e-15 * (hi - lo) {
-                clamped = true;
-                eta = e;
-                break;
-            }
-            eta = e;
-            clamped = true;
-            continue;
+/// Position and first two parametric derivatives of the span's polynomial
+/// (rational) piece at `eta` (one-sided at the span's ends).
+fn span_eval(curve: &NurbsPatch, span: usize, eta: f64) -> [[f64; 2]; 3] {
+    let kv = &curve.knots()[0];
+    let p = kv.degree();
+    let mut ders = [0.0; 3 * 9];
+    let ders = &mut ders[..3 * (p + 1)];
+    basis_ders_into(kv, span, eta, 2, ders);
+    let (cp, w) = (curve.control_points(), curve.weights());
+    let mut a = [[0.0; 2]; 3];
+    let mut ws = [0.0; 3];
+    for j in 0..=p {
+        let i = span - p + j;
+        for k in 0..3 {
+            let n = ders[k * (p + 1) + j] * w[i];
+            ws[k] += n;
+            a[k][0] += n * cp[i][0];
+            a[k][1] += n * cp[i][1];
         }
-        clamped = false;
-        let done = (next - eta).abs() < 1e-15 * (hi - lo);
+    }
+    let mut out = [[0.0; 2]; 3];
+    for c in 0..2 {
+        out[0][c] = a[0][c] / ws[0];
+        out[1][c] = (a[1][c] - out[0][c] * ws[1]) / ws[0];
+        out[2][c] = (a[2][c] - 2.0 * out[1][c] * ws[1] - out[0][c] * ws[2]) / ws[0];
+    }
+    out
+}
+
+fn dist2(x: [f64; 2], c: [f64; 2]) -> f64 {
+    (x[0] - c[0]).powi(2) + (x[1] - c[1]).powi(2)
+}
+
+/// Closest point of span `span` = `[a, b]` to `x`: Newton from `eta0` clamped
+/// to the span, compared with the span's ends. Returns `(η, distance²)`.
+fn span_minimum(curve: &NurbsPatch, span: usize, x: [f64; 2], eta0: f64) -> (f64, f64) {
+    let kv = &curve.knots()[0].knots();
+    let (a, b) = (kv[span], kv[span + 1]);
+    let mut eta = eta0.clamp(a, b);
+    for _ in 0..40 {
+        let d = span_eval(curve, span, eta);
+        let r = [x[0] - d[0][0], x[1] - d[0][1]];
+        let t2 = d[1][0] * d[1][0] + d[1][1] * d[1][1];
+        let phi = r[0] * d[1][0] + r[1] * d[1][1];
+        let dphi = -t2 + r[0] * d[2][0] + r[1] * d[2][1];
+        // Fall back to a gradient-like step where the curve is locally concave toward x.
+        let step = if dphi < 0.0 { -phi / dphi } else { phi / t2 };
+        let next = (eta + step).clamp(a, b);
+        let done = (next - eta).abs() <= 1e-15 * (b - a);
         eta = next;
         if done {
             break;
         }
     }
-    let c = curve.point(&[eta]);
-    let d2 = (x[0] - c[0]).powi(2) + (x[1] - c[1]).powi(2);
-    (eta, clamped, d2)
-}
-
-/// Newton on the periodic extension of the master: `x_m(η + k·L) = x_m(η) + k·W`
-/// (`L` the parameter range, `W` the period), so a projection may cross the
-/// seam freely. Returns `(η ∈ [lo, hi), shift, distance²)`.
-fn newton_periodic(
-    curve: &NurbsPatch,
-    x: [f64; 2],
-    eta0: f64,
-    lo: f64,
-    hi: f64,
-    w: f64,
-) -> (f64, f64, f64) {
-    let range = hi - lo;
-    let wrap = |e: f64| -> (f64, f64) {
-        let k = ((e - lo) / range).floor();
-        let mut r = e - k * range;
-        if r >= hi {
-            r = lo;
-        }
-        (r, k * w)
-    };
-    let mut eta = eta0;
-    for _ in 0..60 {
-        let (e, shift) = wrap(eta);
-        let d = curve.curve_derivatives(e, 2);
-        let r = [x[0] - d[0][0] - shift, x[1] - d[0][1]];
-        let phi = r[0] * d[1][0] + r[1] * d[1][1];
-        let t2 = d[1][0] * d[1][0] + d[1][1] * d[1][1];
-        let dphi = -t2 + r[0] * d[2][0] + r[1] * d[2][1];
-        let mut step = if dphi < 0.0 { -phi / dphi } else { phi / t2 };
-        // Limit a step to one element-sized fraction of the range.
-        step = step.clamp(-0.25 * range, 0.25 * range);
-        eta += step;
-        if step.abs() < 1e-15 * range {
-            break;
+    let mut best = (eta, dist2(x, span_eval(curve, span, eta)[0]));
+    for e in [a, b] {
+        let d = dist2(x, span_eval(curve, span, e)[0]);
+        if d < best.1 {
+            best = (e, d);
         }
     }
-    let (e, shift) = wrap(eta);
-    let c = curve.point(&[e]);
-    (
-        e,
+    best
+}
+
+/// The closest point of one knot span (image `shift`) to `x`, if it is an
+/// orthogonal projection inside the span.
+pub fn project_on_span(
+    curve: &NurbsPatch,
+    x: [f64; 2],
+    span: usize,
+    shift: f64,
+) -> Option<Projection> {
+    let knots = curve.knots()[0].knots();
+    let (a, b) = (knots[span], knots[span + 1]);
+    let (eta, d2) = span_minimum(curve, span, [x[0] - shift, x[1]], 0.5 * (a + b));
+    (eta > a && eta < b).then_some(Projection {
+        eta,
+        span,
         shift,
-        (x[0] - c[0] - shift).powi(2) + (x[1] - c[1]).powi(2),
-    )
+        clamped: false,
+        vertex: false,
+        distance: d2.sqrt(),
+    })
 }
 
 /// Points of the master curve at 4 parameters per element: the candidates
 /// for the starting guesses of the projections (computed once per evaluation).
 pub struct MasterSamples {
-    samples: Vec<(f64, [f64; 3])>,
+    /// `(element index, η, point)`.
+    samples: Vec<(usize, f64, [f64; 3])>,
+    /// Knot span of each element.
+    spans: Vec<usize>,
 }
 
 impl MasterSamples {
     /// Samples `curve`.
     pub fn new(curve: &NurbsPatch) -> Self {
         let kv = &curve.knots()[0];
+        let spans = kv.element_spans();
         let mut samples = Vec::new();
-        for s in kv.element_spans() {
+        for (e, &s) in spans.iter().enumerate() {
             let (a, b) = (kv.knots()[s], kv.knots()[s + 1]);
             for t in 0..4 {
                 let eta = a + (b - a) * (t as f64 + 0.5) / 4.0;
-                samples.push((eta, curve.point(&[eta])));
+                samples.push((e, eta, curve.point(&[eta])));
             }
         }
-        MasterSamples { samples }
+        MasterSamples { samples, spans }
     }
 }
 
 /// Projects `x` onto `curve` (a 2D NURBS curve in the current configuration).
 /// `guess`: the parameter found at the previous evaluation, if any.
-/// `period`: the sample width when the master repeats periodically in x.
+/// `period`: the sample width when the master repeats periodically in x
+/// (`x_m(η) + k·W` is then the image `k`).
 pub fn project(
     curve: &NurbsPatch,
     x: [f64; 2],
@@ -136,73 +157,192 @@ pub fn project(
     samples: &MasterSamples,
 ) -> Result<Projection> {
     let kv = &curve.knots()[0];
-    let (lo, hi) = (kv.first(), kv.last());
+    let knots = kv.knots();
+    let spans = &samples.spans;
+    let m = spans.len();
     let shifts: Vec<f64> = match period {
         None => vec![0.0],
         Some(w) => {
-            let x0 = curve.point(&[lo])[0];
+            let x0 = curve.point(&[kv.first()])[0];
             let k = ((x[0] - x0) / w).floor();
             vec![k * w, (k - 1.0) * w, (k + 1.0) * w]
         }
     };
-    let mut best: Option<Projection> = None;
-    for &shift in &shifts {
-        let xs = [x[0] - shift, x[1]];
-        let mut starts: Vec<f64> = Vec::new();
-        if let Some(g) = guess {
-            starts.push(g);
-        }
-        // The two nearest samples.
-        let (mut b1, mut b2) = ((f64::INFINITY, lo), (f64::INFINITY, lo));
-        for &(t, c) in &samples.samples {
-            let d = (xs[0] - c[0]).powi(2) + (xs[1] - c[1]).powi(2);
-            if d < b1.0 {
-                b2 = b1;
-                b1 = (d, t);
-            } else if d < b2.0 {
-                b2 = (d, t);
+    // Candidate (element, shift) pairs: the 3 closest samples over the images
+    // and the previous projection's element on every image, with neighbours.
+    let mut near: Vec<(f64, usize, f64, f64)> = Vec::with_capacity(4);
+    for &s in &shifts {
+        for &(e, eta, c) in &samples.samples {
+            let d = dist2([x[0] - s, x[1]], [c[0], c[1]]);
+            if near.len() < 3 || d < near[near.len() - 1].0 {
+                let at = near.partition_point(|n| n.0 <= d);
+                near.insert(at, (d, e, s, eta));
+                near.truncate(3);
             }
-        }
-        starts.push(b1.1);
-        starts.push(b2.1);
-        for s in starts {
-            let cand = match period {
-                Some(w) => {
-                    let (eta, extra, d2) = newton_periodic(curve, xs, s, lo, hi, w);
-                    Projection {
-                        eta,
-                        shift: shift + extra,
-                        clamped: false,
-                        distance: d2.sqrt(),
-                    }
-                }
-                None => {
-                    let (eta, clamped, d2) = newton(curve, xs, s, lo, hi);
-                    Projection {
-                        eta,
-                        shift,
-                        clamped,
-                        distance: d2.sqrt(),
-                    }
-                }
-            };
-            if best.is_none_or(|b| cand.distance < b.distance - 1e-14) {
-                best = Some(cand);
-            }
-        }
-        if period.is_some() {
-            // The periodic Newton reaches every image from the first shift.
-            break;
         }
     }
-    best.ok_or_else(|| {
+    let mut seeds: Vec<(usize, f64, f64)> = near.iter().map(|n| (n.1, n.2, n.3)).collect();
+    if let Some(g) = guess {
+        let span = kv.find_span(g);
+        if let Some(e) = spans.iter().position(|&s| s == span) {
+            for &s in &shifts {
+                seeds.push((e, s, g));
+            }
+        }
+    }
+    let neighbour = |e: usize, s: f64, step: i64| -> Option<(usize, f64)> {
+        let j = e as i64 + step;
+        match period {
+            _ if (0..m as i64).contains(&j) => Some((j as usize, s)),
+            Some(w) if j < 0 => Some((m - 1, s - w)),
+            Some(w) => Some((0, s + w)),
+            None => None,
+        }
+    };
+    let mut candidates: Vec<(usize, f64, f64)> = Vec::with_capacity(3 * seeds.len());
+    for &(e, s, eta) in &seeds {
+        for step in [0, -1, 1] {
+            if let Some((f, t)) = neighbour(e, s, step) {
+                let start = if step == 0 { eta } else { f64::NAN };
+                if !candidates
+                    .iter()
+                    .any(|c| c.0 == f && (c.1 - t).abs() <= 1e-9 * (1.0 + t.abs()))
+                {
+                    candidates.push((f, t, start));
+                }
+            }
+        }
+    }
+    // The closest point over the candidates (ties keep the first found).
+    let mut best: Option<(usize, f64, f64, f64)> = None;
+    for &(e, s, start) in &candidates {
+        let span = spans[e];
+        let (a, b) = (knots[span], knots[span + 1]);
+        let eta0 = if start.is_finite() {
+            start
+        } else {
+            0.5 * (a + b)
+        };
+        let (eta, d2) = span_minimum(curve, span, [x[0] - s, x[1]], eta0);
+        if best.is_none_or(|bb| d2 < bb.3 * (1.0 - 1e-13)) {
+            best = Some((e, s, eta, d2));
+        }
+    }
+    let (e, shift, eta, d2) = best.ok_or_else(|| {
         Error::Geometry(format!(
             "no projection of the point ({}, {}) onto the master surface",
             x[0], x[1]
         ))
-    })
+    })?;
+    let mut pr = Projection {
+        eta,
+        span: spans[e],
+        shift,
+        clamped: false,
+        vertex: false,
+        distance: d2.sqrt(),
+    };
+    let mut e = e;
+    // At an end of its span, the projection may continue into the next span
+    // (a candidate's neighbour not searched yet): follow it.
+    for _ in 0..m {
+        match end_kind(curve, x, spans, e, period, &pr) {
+            End::Interior => {}
+            End::Clamped => pr.clamped = true,
+            End::Vertex => pr.vertex = true,
+            End::Other(f, s, eta_other) => {
+                pr.eta = eta_other;
+                pr.span = spans[f];
+                pr.shift = s;
+            }
+            End::Descend(f, s, eta_other) => {
+                let (eta, d2) = span_minimum(curve, spans[f], [x[0] - s, x[1]], eta_other);
+                pr = Projection {
+                    eta,
+                    span: spans[f],
+                    shift: s,
+                    distance: d2.sqrt(),
+                    ..pr
+                };
+                e = f;
+                continue;
+            }
+        }
+        break;
+    }
+    Ok(pr)
 }
 
+/// What a projection found by a span search is.
+enum End {
+    /// Inside its span (or orthogonal at its end): a regular projection.
+    Interior,
+    /// At an end of a non-periodic master.
+    Clamped,
+    /// At a corner, the point in its normal cone.
+    Vertex,
+    /// Orthogonal at the knot on the other side's span `(element, shift, η)`.
+    Other(usize, f64, f64),
+    /// The distance falls into the other side's span: search it from `η`.
+    Descend(usize, f64, f64),
+}
+
+/// Classifies a projection at an end of its span `e`.
+fn end_kind(
+    curve: &NurbsPatch,
+    x: [f64; 2],
+    spans: &[usize],
+    e: usize,
+    period: Option<f64>,
+    pr: &Projection,
+) -> End {
+    let knots = curve.knots()[0].knots();
+    let m = spans.len();
+    let (a, b) = (knots[spans[e]], knots[spans[e] + 1]);
+    let at_start = pr.eta == a;
+    if !at_start && pr.eta != b {
+        return End::Interior;
+    }
+    // The other side of the knot: (element, shift, parameter there).
+    let other = match (at_start, period) {
+        (true, _) if e > 0 => Some((e - 1, pr.shift, a)),
+        (false, _) if e + 1 < m => Some((e + 1, pr.shift, b)),
+        (true, Some(w)) => Some((m - 1, pr.shift - w, knots[spans[m - 1] + 1])),
+        (false, Some(w)) => Some((0, pr.shift + w, knots[spans[0]])),
+        _ => None,
+    };
+    let Some((f, s_other, eta_other)) = other else {
+        return End::Clamped;
+    };
+    let here = span_eval(curve, spans[e], pr.eta);
+    let r = [x[0] - pr.shift - here[0][0], x[1] - here[0][1]];
+    let rn = r[0].hypot(r[1]);
+    let there = span_eval(curve, spans[f], eta_other);
+    // Cosines of the angles between the vector to the point and the tangent
+    // (along increasing η) on this side and on the other side of the knot.
+    let cosine = |t: [f64; 2]| (r[0] * t[0] + r[1] * t[1]) / (rn * t[0].hypot(t[1]));
+    let (c_here, c_there) = (cosine(here[1]), cosine(there[1]));
+    let tol = 1e-10;
+    let h = here[1][0].hypot(here[1][1]) * (b - a);
+    if rn <= 1e-12 * h || c_here.abs() <= tol {
+        return End::Interior;
+    }
+    if c_there.abs() <= tol {
+        return End::Other(f, s_other, eta_other);
+    }
+    // Entering the other span (backward from the start, forward from the
+    // end) shortens the distance if the point lies ahead along its tangent.
+    let descends = if at_start {
+        c_there < 0.0
+    } else {
+        c_there > 0.0
+    };
+    if descends {
+        End::Descend(f, s_other, eta_other)
+    } else {
+        End::Vertex
+    }
+}
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -229,5 +369,76 @@ mod tests {
         let q = project(&line, [1.3, 0.2], None, Some(1.0), &s).unwrap();
         assert!(!q.clamped && (q.shift - 1.0).abs() < 1e-15 && (q.eta - 0.3).abs() < 1e-12);
         assert!((q.distance - 0.2).abs() < 1e-12);
+    }
+
+    /// A degree-1 "Λ" polyline (0,0)–(1,1)–(2,0).
+    fn roof() -> NurbsPatch {
+        let kv = crate::geometry::KnotVector::new(1, vec![0.0, 0.0, 0.5, 1.0, 1.0]).unwrap();
+        NurbsPatch::new(
+            vec![kv],
+            vec![[0.0, 0.0, 0.0], [1.0, 1.0, 0.0], [2.0, 0.0, 0.0]],
+            vec![1.0; 3],
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn a_point_in_the_normal_cone_of_a_corner_projects_onto_the_corner() {
+        let c = roof();
+        let s = MasterSamples::new(&c);
+        let p = project(&c, [1.0, 2.0], None, None, &s).unwrap();
+        assert!(p.vertex && !p.clamped);
+        assert!((p.eta - 0.5).abs() < 1e-15 && (p.distance - 1.0).abs() < 1e-14);
+        // Beside the corner: the orthogonal projection onto a segment.
+        let q = project(&c, [0.5, 1.0], Some(0.9), None, &s).unwrap();
+        assert!(!q.vertex && !q.clamped && q.span == 1);
+        assert!((q.eta - 0.375).abs() < 1e-14, "{q:?}");
+        assert!((q.distance - 0.125f64.sqrt()).abs() < 1e-14);
+    }
+
+    #[test]
+    fn projection_distance_is_the_minimum_over_the_curve() {
+        // The roof and its periodic images (period 2): distance against a
+        // dense sampling, from every kind of starting guess.
+        let c = roof();
+        let s = MasterSamples::new(&c);
+        let dense: Vec<[f64; 3]> = (0..=20000)
+            .map(|k| c.point(&[k as f64 / 20000.0]))
+            .collect();
+        let mut seed = 3u64;
+        let mut rnd = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..400 {
+            let x = [-1.0 + 4.0 * rnd(), -1.0 + 3.0 * rnd()];
+            let guess = (rnd() < 0.5).then(&mut rnd);
+            for period in [None, Some(2.0)] {
+                let p = project(&c, x, guess, period, &s).unwrap();
+                let shifts: &[f64] = if period.is_some() {
+                    &[-4.0, -2.0, 0.0, 2.0, 4.0]
+                } else {
+                    &[0.0]
+                };
+                let brute = shifts
+                    .iter()
+                    .flat_map(|&sh| {
+                        dense
+                            .iter()
+                            .map(move |d| (x[0] - d[0] - sh).hypot(x[1] - d[1]))
+                    })
+                    .fold(f64::INFINITY, f64::min);
+                assert!(
+                    p.distance <= brute + 1e-12 && p.distance >= brute - 1e-4,
+                    "{x:?} {period:?}: {} vs {brute}",
+                    p.distance
+                );
+                let y = c.point(&[p.eta]);
+                let d = (x[0] - y[0] - p.shift).hypot(x[1] - y[1]);
+                assert!((d - p.distance).abs() < 1e-12);
+            }
+        }
     }
 }

@@ -209,13 +209,37 @@ pub fn thermal_patch_curved() -> Result<Vec<Check>> {
 /// Mechanical patch test (flat, LN sides, bottom fixed): the lumped
 /// pressures equal `p̄` to round-off with nested meshes; non-nested meshes
 /// carry the element-based integration error (2.9e−4 with 8 interface
-/// points, 1.2e−6 with 32, 1.7e−7 with 64).
+/// points, 1.2e−6 with 32, 1.7e−7 with 64), which segment-based integration
+/// removes.
 pub fn mechanical_patch() -> Result<Vec<Check>> {
     let name = "contact_patch_mechanical";
     let p = 1.0e4;
-    let n = patch::mechanical_patch(&nested_patch(Interface::Flat), p, 8)?;
-    let g = patch::mechanical_patch(&PatchSetup::new(Interface::Flat), p, 8)?;
+    let element = crate::contact::Integration::Element;
+    let n = patch::mechanical_patch(&nested_patch(Interface::Flat), p, 8, element)?;
+    let g = patch::mechanical_patch(&PatchSetup::new(Interface::Flat), p, 8, element)?;
+    let seg = patch::mechanical_patch(
+        &PatchSetup::new(Interface::Flat),
+        p,
+        8,
+        crate::contact::Integration::Segment,
+    )?;
     Ok(vec![
+        Check::with_error(
+            name,
+            "non-nested, segments: max |pN^I − p̄|/p̄",
+            seg.pressure_deviation,
+            0.0,
+            seg.pressure_deviation,
+            1e-8,
+        ),
+        Check::with_error(
+            name,
+            "non-nested, segments: max |g^I| / platen displ.",
+            seg.gap,
+            0.0,
+            seg.gap,
+            1e-10,
+        ),
         Check::with_error(
             name,
             "nested: max |pN^I − p̄|/p̄",
@@ -428,13 +452,15 @@ pub fn robustness_checks(
     Ok((checks, path))
 }
 
-/// The default robustness case: p = 2 and p = 3, PR, on half the meshes of
-/// `tables/sinusoid_on_flat.toml`.
+/// The default robustness case: p = 1, 2 and 3, PR, and p = 1 with LN, on
+/// half the meshes of `tables/sinusoid_on_flat.toml` (p = 1: the master has
+/// C0 corners, so the default integration is segment-based).
 pub fn robustness_default() -> Result<Vec<Check>> {
     let mut v = Vec::new();
-    for degree in [2, 3] {
+    for degree in [1, 2, 3] {
         v.extend(robustness_checks(degree, LateralCondition::Periodic, [16, 8], [14, 7])?.0);
     }
+    v.extend(robustness_checks(1, LateralCondition::Linear, [16, 8], [14, 7])?.0);
     Ok(v)
 }
 

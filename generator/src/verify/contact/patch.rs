@@ -25,7 +25,9 @@
 use crate::Result;
 use crate::analytical::compression::platen_stretch;
 use crate::bulk::Coupling;
-use crate::contact::{ContactSettings, ThermalContact, ThermalEnforcement, ThermalMethod};
+use crate::contact::{
+    ContactSettings, Integration, ThermalContact, ThermalEnforcement, ThermalMethod,
+};
 use crate::geometry::{KnotVector, NurbsPatch, Side, shapes};
 use crate::material::Material;
 use crate::solve::{LoadStepping, ModelBuilder, Newton, NewtonSettings, Scales};
@@ -322,11 +324,13 @@ pub struct MechanicalPatch {
 }
 
 /// Runs the mechanical patch test (flat interface) at the platen pressure
-/// `pressure` (Pa) with `interface_points` Gauss points per slave element.
+/// `pressure` (Pa) with `interface_points` Gauss points per slave element
+/// (or per segment, with segment-based `integration`).
 pub fn mechanical_patch(
     setup: &PatchSetup,
     pressure: f64,
     interface_points: usize,
+    integration: Integration,
 ) -> Result<MechanicalPatch> {
     let m = PatchSetup::material();
     let (lower, upper) = setup.patches();
@@ -344,6 +348,7 @@ pub fn mechanical_patch(
         (lo, 1, Side::High),
         &ContactSettings {
             interface_points,
+            integration,
             ..ContactSettings::default()
         },
         None,
