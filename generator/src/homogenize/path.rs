@@ -92,6 +92,7 @@ pub struct PathSolver<'a> {
     pub geometry: SampleGeometry,
     vtk: Option<std::path::PathBuf>,
     points: usize,
+    history: Vec<f64>,
 }
 
 impl<'a> PathSolver<'a> {
@@ -134,6 +135,7 @@ impl<'a> PathSolver<'a> {
             geometry,
             vtk: None,
             points: 0,
+            history: Vec::new(),
         })
     }
 
@@ -162,6 +164,13 @@ impl<'a> PathSolver<'a> {
         self.model.set_path(from, to);
         let h = self.newton.solve(&mut self.model)?;
         Ok(h.total_iterations())
+    }
+
+    /// The jumps (K, signed) of the last two-phase solve, one per
+    /// self-consistency iteration; the first is the plain two-phase jump
+    /// (Fig. 14a). For a multi-flux solve, those of the last flux.
+    pub fn self_consistency_history(&self) -> &[f64] {
+        &self.history
     }
 
     /// Writes ParaView files of every solved point into `dir` (`p000_*.vtk`, ...).
@@ -266,8 +275,19 @@ impl<'a> PathSolver<'a> {
         };
         self.model.prescribe_face(mface.0, 1, mface.1, 2, tm);
         let p0 = self.last_pressure;
-        let start = if p0 == 0.0 { [0.0, 0.0] } else { [p0, flux] };
-        let it = self.drive(start, [pressure, flux])?;
+        let it = if p0 == 0.0 {
+            // From the unloaded state: the pressure first with the temperature
+            // held (mechanical), then the flux (coupled). Ramping both at once
+            // loads the flux onto bodies that barely touch (with the
+            // constitutive model, no conductance at first touch): non-finite
+            // residuals and many cut-backs.
+            self.model.set_coupling(Coupling::Mechanical)?;
+            let it = self.drive([0.0, 0.0], [pressure, 0.0])?;
+            self.model.set_coupling(Coupling::Coupled)?;
+            it + self.drive([pressure, 0.0], [pressure, flux])?
+        } else {
+            self.drive([p0, flux], [pressure, flux])?
+        };
         self.last_pressure = pressure;
         let ts = self.model.face_mean_temperature(sface.0, 1, sface.1);
         if let Some(dir) = &self.vtk {
@@ -333,6 +353,7 @@ impl<'a> PathSolver<'a> {
             };
             let mut ts = scale(ts1);
             let mut jump = ts - self.slave_abp(&abp);
+            self.history = vec![jump];
             let mut iface = iface1;
             iface.max_active_jump *= flux;
             let mut iterations = base_it + it1;
@@ -360,6 +381,7 @@ impl<'a> PathSolver<'a> {
                         Ok((a, t, it, m)) => {
                             iterations += it;
                             let new_jump = t - self.slave_abp(&a);
+                            self.history.push(new_jump);
                             let change = (new_jump - jump).abs();
                             (abp, ts, jump, iface) = (a, t, new_jump, m);
                             if change
