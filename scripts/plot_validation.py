@@ -216,12 +216,12 @@ def plot_mms(cases, checks, out_dir):
     return out
 
 
-def fmt(v, none="NaN/∞"):
+def fmt(v, none="NaN/∞", digits=4):
     """JSON has no NaN or infinity: serde writes them as null."""
     if v is None:
         return none
     if isinstance(v, float):
-        return f"{v:.4g}"
+        return f"{v:.{digits}g}"
     return str(v)
 
 
@@ -241,7 +241,7 @@ def write_checks_md(checks, out_dir):
             q = c.get("quantity", "").replace("|", "\\|")
             rate = f" (rate {c['rate']:.3f})" if c.get("rate") is not None else ""
             lines.append(
-                f"| {q}{rate} | {fmt(c.get('computed'))} | {fmt(c.get('reference'))} | "
+                f"| {q}{rate} | {fmt(c.get('computed'), digits=7)} | {fmt(c.get('reference'), digits=7)} | "
                 f"{fmt(c.get('error'))} | {fmt(c.get('tolerance'), '∞')} | "
                 f"{'pass' if c.get('pass') else 'FAIL'} |"
             )

@@ -5,7 +5,8 @@
 //! Fig. 12), self-consistency and sample height (Fig. 14), LN against PR
 //! (Fig. 11) and the validation through the homogenized bar problem (Fig. 16).
 //!
-//! Meshes are coarse by default (the whole set runs in about a minute);
+//! Meshes are coarse by default (the whole set runs in about two minutes on
+//! 2 cores, half of it `hbp_validation`);
 //! `TCGEN_LONG_TESTS=1` switches to the paper's resolution.
 
 use std::path::Path;
@@ -176,7 +177,7 @@ pub fn cases() -> Vec<Case> {
         },
         Case {
             name: "hbp_validation",
-            description: "Fig. 16b: HBP with the identified jump vs the coupled OHP on a 30 um sample",
+            description: "Fig. 16: jump vs pressure; HBP with the identified jump vs the coupled OHP on a 30 um sample",
             run: hbp_validation,
         },
     ]
