@@ -47,7 +47,7 @@ fn self_consistent_jump_saturates_with_height() {
 /// of `θ(1)` (observed 0.1–1.3 %), and for the constraint model closer than
 /// the plain two-phase one (mismatch 0.15, 0.13, 0.005 K against 0.58, 0.54,
 /// 0.09 K). About 30 s in release; `TCGEN_LONG_TESTS=1`: five pressures and
-/// 32 elements through each OHP body.
+/// twice the elements in every direction.
 #[test]
 fn hbp_with_the_self_consistent_jump_reproduces_the_coupled_ohp() {
     run("hbp_validation");

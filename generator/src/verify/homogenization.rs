@@ -597,10 +597,10 @@ fn height_saturation() -> Result<Vec<Check>> {
 /// without self-consistency. The OHP and the identifications share the
 /// lateral mesh (the contact zone at 1 kPa spans about one element on the
 /// default mesh, so the jumps themselves are far from mesh converged; the
-/// comparison is between models at equal resolution; on 32/24 elements the
-/// coupled OHP stalls between 1 and 10 kPa, reported). 16/12 elements along
-/// x, 8/7 through the 7 μm heights; the OHP has 20 elements through each
-/// 30 μm body at 1, 10 and 100 kPa by default, 32 at five pressures when long.
+/// comparison is between models at equal resolution). Default: 16/12
+/// elements along x, 8/7 through the 7 μm heights, 20 through each 30 μm
+/// OHP body, at 1, 10 and 100 kPa; long: twice the elements in every
+/// direction (40 through the OHP bodies), five pressures.
 fn hbp_validation() -> Result<Vec<Check>> {
     let case = "hbp_validation";
     let long = long_runs();
@@ -609,7 +609,8 @@ fn hbp_validation() -> Result<Vec<Check>> {
     } else {
         &[1.0e3, 1.0e4, 1.0e5]
     };
-    let tall_nz = if long { 32 } else { 20 };
+    let r = if long { 2 } else { 1 };
+    let (nx_u, nx_l, tall_nz) = (16 * r, 12 * r, 20 * r);
     let mut out = Vec::new();
     for (label, contact) in [
         ("constraint", "thermal = \"constraint\"\n".to_string()),
@@ -618,11 +619,12 @@ fn hbp_validation() -> Result<Vec<Check>> {
         let base = Sample {
             pressures: pressures.to_vec(),
             contact: contact.clone(),
+            elements: ([nx_u, 8 * r], [nx_l, 7 * r]),
             ..Sample::default()
         };
         let ohp = Sample {
             height: 3.0e-5,
-            elements: ([16, tall_nz], [12, tall_nz]),
+            elements: ([nx_u, tall_nz], [nx_l, tall_nz]),
             method: "coupled",
             ..base.clone()
         }
