@@ -22,12 +22,18 @@ enum Command {
         /// Print JSON lines instead of a table.
         #[arg(long)]
         json: bool,
-        /// Run only the cases whose name contains this text.
+        /// Run only the cases whose name contains this text (or any of
+        /// several, separated by commas).
         #[arg(long)]
         filter: Option<String>,
         /// List the cases and exit.
         #[arg(long)]
         list: bool,
+        /// Also write the data of the plots into DIR: `checks.json` (every
+        /// check, and an entry per failed case) and `<case>.csv` per case
+        /// that recorded curves (columns `series,x_label,y_label,x,y`).
+        #[arg(long, value_name = "DIR")]
+        data: Option<std::path::PathBuf>,
     },
     /// Solve one micro-sample along its pressure path (case file: TOML, SI units).
     Solve {
@@ -358,10 +364,19 @@ fn law(table: &std::path::Path, output: &std::path::Path) -> ExitCode {
     }
 }
 
-fn verify(json: bool, filter: Option<String>, list: bool) -> ExitCode {
+fn verify(
+    json: bool,
+    filter: Option<String>,
+    list: bool,
+    data: Option<&std::path::Path>,
+) -> ExitCode {
     let cases: Vec<_> = tcgen::verify::catalogue()
         .into_iter()
-        .filter(|c| filter.as_deref().is_none_or(|f| c.name.contains(f)))
+        .filter(|c| {
+            filter
+                .as_deref()
+                .is_none_or(|f| f.split(',').any(|f| c.name.contains(f.trim())))
+        })
         .collect();
     if list {
         for c in &cases {
@@ -370,7 +385,9 @@ fn verify(json: bool, filter: Option<String>, list: bool) -> ExitCode {
         return ExitCode::SUCCESS;
     }
     let mut all = Vec::new();
+    let mut errors = Vec::new();
     let mut failed = 0;
+    tcgen::verify::take_series();
     for c in &cases {
         let t = std::time::Instant::now();
         match (c.run)() {
@@ -387,16 +404,22 @@ fn verify(json: bool, filter: Option<String>, list: bool) -> ExitCode {
             }
             Err(e) => {
                 failed += 1;
+                let entry =
+                    serde_json::json!({"case": c.name, "error": e.to_string(), "pass": false});
                 if json {
-                    println!(
-                        "{}",
-                        serde_json::json!({"case": c.name, "error": e.to_string(), "pass": false})
-                    );
+                    println!("{entry}");
                 } else {
                     eprintln!("{:<28} ERROR: {e}", c.name);
                 }
+                errors.push(entry);
             }
         }
+    }
+    if let Some(dir) = data
+        && let Err(e) = write_verify_data(dir, &all, errors)
+    {
+        eprintln!("error: {e}");
+        return ExitCode::FAILURE;
     }
     if !json {
         print!("{}", tcgen::verify::format_table(&all));
@@ -411,6 +434,62 @@ fn verify(json: bool, filter: Option<String>, list: bool) -> ExitCode {
     } else {
         ExitCode::FAILURE
     }
+}
+
+/// One CSV field (quoted when it holds a comma, quote or newline).
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+/// `tcgen verify --data DIR`: `checks.json` and one `<case>.csv` per case
+/// with recorded series (rows `series,x_label,y_label,x,y`, in recording order).
+fn write_verify_data(
+    dir: &std::path::Path,
+    checks: &[tcgen::verify::Check],
+    errors: Vec<serde_json::Value>,
+) -> tcgen::Result<()> {
+    let io = |path: &std::path::Path| {
+        let path = path.display().to_string();
+        move |source| tcgen::Error::Io { path, source }
+    };
+    std::fs::create_dir_all(dir).map_err(io(dir))?;
+    let mut entries: Vec<serde_json::Value> = checks
+        .iter()
+        .map(|c| serde_json::to_value(c).expect("serializable"))
+        .collect();
+    entries.extend(errors);
+    let path = dir.join("checks.json");
+    let text = serde_json::to_string_pretty(&entries).expect("serializable");
+    std::fs::write(&path, text + "\n").map_err(io(&path))?;
+    let mut files: Vec<(String, String)> = Vec::new();
+    for s in tcgen::verify::take_series() {
+        let i = match files.iter().position(|(c, _)| *c == s.case) {
+            Some(i) => i,
+            None => {
+                files.push((s.case.clone(), "series,x_label,y_label,x,y\n".into()));
+                files.len() - 1
+            }
+        };
+        let (name, xl, yl) = (
+            csv_field(&s.name),
+            csv_field(&s.x_label),
+            csv_field(&s.y_label),
+        );
+        for (x, y) in s.x.iter().zip(&s.y) {
+            files[i]
+                .1
+                .push_str(&format!("{name},{xl},{yl},{x:e},{y:e}\n"));
+        }
+    }
+    for (case, text) in files {
+        let path = dir.join(format!("{case}.csv"));
+        std::fs::write(&path, text).map_err(io(&path))?;
+    }
+    Ok(())
 }
 
 fn solve(path: &std::path::Path, json: bool, vtk: Option<std::path::PathBuf>) -> ExitCode {
@@ -481,7 +560,12 @@ fn solve(path: &std::path::Path, json: bool, vtk: Option<std::path::PathBuf>) ->
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        Command::Verify { json, filter, list } => verify(json, filter, list),
+        Command::Verify {
+            json,
+            filter,
+            list,
+            data,
+        } => verify(json, filter, list, data.as_deref()),
         Command::Solve { case, json, vtk } => solve(&case, json, vtk),
         Command::Sweep {
             config,

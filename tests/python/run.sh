@@ -7,17 +7,7 @@
 # TCGEN_DEMO_TABLE (reuse this demo table instead of building it).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
-target="${CARGO_TARGET_DIR:-$root/target}"
-venv="$target/python-venv"
-python="${PYTHON:-python3}"
-req="$root/tests/python/requirements.txt"
-if [ ! -x "$venv/bin/python" ] || ! cmp -s "$req" "$venv/requirements.txt"; then
-    rm -rf "$venv"
-    "$python" -m venv "$venv"
-    "$venv/bin/python" -m pip install --quiet --upgrade pip
-    "$venv/bin/python" -m pip install --quiet -r "$req"
-    cp "$req" "$venv/requirements.txt"
-fi
+. "$root/tests/python/venv.sh"
 (cd "$root" && cargo build --release -p tcgen --quiet)
 export TCGEN_BIN="$target/release/tcgen"
 export TCGEN_PYTHON="$venv/bin/python"

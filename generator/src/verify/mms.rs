@@ -19,7 +19,7 @@ use crate::material::Material;
 use crate::solve::{
     LoadStepping, Model, ModelBuilder, Newton, NewtonSettings, Scales, SolveHistory,
 };
-use crate::verify::{Case, Check, fitted_rate};
+use crate::verify::{Case, Check, fitted_rate, record_series};
 use crate::{Error, Result};
 
 /// The annulus discretized with degree `p` and `n` elements per direction.
@@ -180,6 +180,24 @@ pub fn convergence_study(kind: MmsKind, p: usize) -> Result<Vec<Check>> {
         let (e, _) = solve_mms(kind, &mesh)?;
         hs.push(1.0 / n as f64);
         es.push(e);
+    }
+    // The error curves of the plots (docs/validation.md).
+    let fields: &[&str] = if kind == MmsKind::Thermoelastic {
+        &["temperature", "displacement"]
+    } else {
+        &["temperature"]
+    };
+    for &field in fields {
+        let (l2, h1): (Vec<f64>, Vec<f64>) = es
+            .iter()
+            .map(|e| match field {
+                "temperature" => (e.l2_t, e.h1_t),
+                _ => (e.l2_u, e.h1_u),
+            })
+            .unzip();
+        let labels = ("h = 1/n", "error norm");
+        record_series(&name, &format!("L2 {field}"), labels, &hs, &l2);
+        record_series(&name, &format!("H1 {field}"), labels, &hs, &h1);
     }
     // Rates from the three finest levels (the asymptotic range).
     let k = hs.len().saturating_sub(3);

@@ -43,6 +43,7 @@ use crate::sample::micro::measure;
 use crate::solve::{
     LoadStepping, Model, ModelBuilder, Newton, NewtonSettings, NonlinearProblem, Scales,
 };
+use crate::verify::record_series;
 
 /// Break points in `(0, length)`: `n` equal elements over `[0, fine]`, then
 /// elements growing by `growth` (the last one stretched or shrunk to fit).
@@ -427,17 +428,40 @@ pub fn hertz(setup: &HertzSetup, models: &[ThermalModel]) -> Result<HertzResult>
         let total: f64 = field.iter().map(|v| v.1).sum();
         let mut acc = 0.0;
         let mut cumulative_error: f64 = 0.0;
+        let mut cumulative = (Vec::new(), Vec::new());
         for (x, q) in &field {
             // The point's own weight half counted (midpoint of its cell).
             let at = (acc + 0.5 * q) / total;
             acc += q;
             let r = x / a_hertz;
+            if r <= 1.2 {
+                cumulative.0.push(r);
+                cumulative.1.push(at);
+            }
             if r < 0.8 {
                 let exact = 2.0 / std::f64::consts::PI * r.min(1.0).asin();
                 cumulative_error = cumulative_error.max((at - exact).abs());
             }
         }
         let (max_error, max_error_centre) = (err(0.8), err(0.5));
+        // The profile of the plots (docs/validation.md), against (5.2).
+        let label = format!(
+            "{} {} (p={}, {} el.)",
+            match tm.method {
+                ThermalMethod::Mortar => "mortar",
+                ThermalMethod::Continuum => "continuum",
+            },
+            match tm.conductance_coefficient {
+                Some(k) => format!("kθ={k:e}"),
+                None => "constraint".into(),
+            },
+            setup.degree,
+            setup.contact_elements[0]
+        );
+        let (rx, ry): (Vec<f64>, Vec<f64>) = points.iter().copied().unzip();
+        record_series("contact_hertz", &label, ("x/a", "h0/h0_min"), &rx, &ry);
+        let (cx, cy) = cumulative;
+        record_series("contact_hertz", &label, ("x/a", "Q(x)/Q"), &cx, &cy);
         fluxes.push(FluxProfile {
             model: *tm,
             points,

@@ -58,7 +58,7 @@ use crate::solve::linear::LinearSolver;
 use crate::solve::{
     LoadStepping, Model, ModelBuilder, Newton, NewtonSettings, NonlinearProblem, Scales,
 };
-use crate::verify::Check;
+use crate::verify::{Check, record_series};
 
 /// The wavy micro-sample of the small-strain benchmarks.
 #[derive(Clone, Debug)]
@@ -382,6 +382,45 @@ pub fn wavy_rows(s: &WavySample, levels: &[f64]) -> Result<Vec<WavyRow>> {
             barber: barber_conductance_from_stiffness(k, k, e_star, r.stiffness),
             newton_iterations: r.newton_iterations,
         });
+    }
+    // The curves of the plots (docs/validation.md).
+    let levels: Vec<f64> = rows.iter().map(|r| r.level).collect();
+    let n = s.elements_x[0];
+    for (name, y) in [
+        (
+            format!("contact fraction ({n} el.)"),
+            rows.iter().map(|r| r.contact_fraction).collect::<Vec<_>>(),
+        ),
+        (
+            "Westergaard 2a/λ".to_string(),
+            rows.iter().map(|r| r.westergaard).collect(),
+        ),
+    ] {
+        record_series(
+            "contact_wavy",
+            &name,
+            ("p/p*", "contact fraction"),
+            &levels,
+            &y,
+        );
+    }
+    for (name, y) in [
+        (
+            format!("h/jump ({n} el.)"),
+            rows.iter().map(|r| r.conductance).collect::<Vec<_>>(),
+        ),
+        (
+            format!("Barber (k/E*) dp/dδ ({n} el.)"),
+            rows.iter().map(|r| r.barber).collect(),
+        ),
+    ] {
+        record_series(
+            "contact_wavy_conductance",
+            &name,
+            ("p/p*", "conductance (W/(m² K))"),
+            &levels,
+            &y,
+        );
     }
     Ok(rows)
 }
