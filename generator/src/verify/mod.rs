@@ -128,7 +128,11 @@ static SERIES: std::sync::Mutex<Vec<Series>> = std::sync::Mutex::new(Vec::new())
 /// Records a curve computed by a case (collected by [`take_series`]; costs
 /// nothing else, so cases record what they compute unconditionally).
 pub fn record_series(case: &str, name: &str, labels: (&str, &str), x: &[f64], y: &[f64]) {
-    assert_eq!(x.len(), y.len(), "series {case}/{name}: x and y lengths differ");
+    assert_eq!(
+        x.len(),
+        y.len(),
+        "series {case}/{name}: x and y lengths differ"
+    );
     let s = Series {
         case: case.into(),
         name: name.into(),
