@@ -80,12 +80,13 @@ pub struct ModelBuilder {
 }
 
 /// Relative tangent regularization of a [`ModelBuilder::sliding_platen`]
-/// (stiffness `· E |A| / L`). It enters the tangent only, so it changes the
-/// Newton path, never the converged state: too small and a slide resisted by
-/// one contact point on a slope (first touch) takes an enormous step (1e-8
-/// diverges on the mismatched sinusoids of Fig. 11); too large and Newton
-/// converges only linearly, with the rate `k / (k + K_contact)` (1 stalls).
-/// 1e-4 to 1e-2 converge to the same state in the same number of iterations.
+/// (stiffness `· E |A| / L` at the start of a load step, then scaled down
+/// with the residual). It enters the tangent only, so it changes the Newton
+/// path, never the converged state: too small and a slide resisted by one
+/// contact point on a slope (first touch) takes an enormous step (1e-8
+/// diverges on the mismatched sinusoids of Fig. 11); too large and kept
+/// constant, Newton converges only linearly where the contact hardly resists
+/// the slide (a sinusoid on a flat).
 pub const SLIDING_REGULARIZATION: f64 = 1e-3;
 
 /// A rigid platen: the face's nodes share the displacement component `field`.
@@ -387,6 +388,7 @@ impl ModelBuilder {
             initial: state.clone(),
             state,
             load_factor: 0.0,
+            step_residual: None,
             coupling,
             contact: self.contact,
             n_bulk_eq: 0,
@@ -435,6 +437,8 @@ pub struct Model {
     /// Current state: `dim + 1` components per node (scaled).
     pub state: Vec<f64>,
     load_factor: f64,
+    /// Mechanical residual norm at the first assembly of the load step.
+    step_residual: Option<f64>,
     coupling: Coupling,
     dofs: DofMap,
     assembly: Assembly,
@@ -570,10 +574,6 @@ impl Model {
             for i in 0..c.n_slave() {
                 element_eqs.push(c.element_eqs(i, &self.dofs, self.mult_eq));
             }
-        }
-        // One-equation elements carrying the platens' tangent regularization.
-        for p in &self.platens {
-            element_eqs.push(vec![self.dofs.eq(p.nodes[0], p.field)]);
         }
         let n_eq = self.eq_class.len();
         self.assembly = Assembly::new(n_eq, element_eqs);
@@ -838,16 +838,8 @@ impl Model {
             None
         };
         let n_bulk = self.elements.len();
-        let n_contact = self.contact.as_ref().map_or(0, |c| c.n_slave());
         let unknowns = self.contact_unknowns();
         let local = |e: usize, k: Option<&mut [f64]>, r: &mut [f64]| -> Result<()> {
-            if e >= n_bulk + n_contact {
-                // Tangent only: the residual of a platen is its bulk forces.
-                if let Some(k) = k {
-                    k[0] = self.platens[e - n_bulk - n_contact].regularization;
-                }
-                return Ok(());
-            }
             if e >= n_bulk {
                 let c = self
                     .contact
@@ -887,6 +879,43 @@ impl Model {
             *r -= f;
         }
         Ok(())
+    }
+
+    /// Adds the sliding platens' regularization to the tangent's diagonal
+    /// (never to the residual), scaled by the mechanical residual relative to
+    /// the first one of the load step, within `[1e-6, 1]`: full at the start
+    /// of a step (bounded steps along a slide without contact stiffness),
+    /// vanishing as Newton converges (its quadratic rate is kept where the
+    /// contact resists the slide only weakly), Levenberg–Marquardt-like.
+    fn regularize_platens(&mut self, values: &mut [f64], residual: &[f64]) {
+        if self.platens.iter().all(|p| p.regularization == 0.0) {
+            return;
+        }
+        let norm = residual
+            .iter()
+            .zip(&self.eq_class)
+            .filter(|(_, c)| **c == 0)
+            .map(|(r, _)| r * r)
+            .sum::<f64>()
+            .sqrt();
+        let first = *self.step_residual.get_or_insert(norm);
+        let ratio = if first > 0.0 {
+            (norm / first).clamp(1e-6, 1.0)
+        } else {
+            1.0
+        };
+        let pattern = self.assembly.symbolic();
+        for p in self.platens.iter().filter(|p| p.regularization > 0.0) {
+            let Some(e) = self.dofs.eq(p.nodes[0], p.field) else {
+                continue;
+            };
+            let range = pattern.col_ptr()[e]..pattern.col_ptr()[e + 1];
+            let k = range
+                .clone()
+                .find(|&k| pattern.row_idx()[k] == e)
+                .expect("the pattern holds the diagonal");
+            values[k] += p.regularization * ratio;
+        }
     }
 
     /// Contact multipliers as a state vector (λN then λθ).
@@ -947,6 +976,7 @@ impl NonlinearProblem for Model {
     }
 
     fn set_load(&mut self, load_factor: f64) {
+        self.step_residual = None;
         self.load_factor = load_factor;
         let (a, b) = self.path;
         self.load = [
@@ -957,8 +987,12 @@ impl NonlinearProblem for Model {
             .impose(&mut self.state, &self.initial, load_factor);
     }
 
-    fn assemble(&mut self, values: Option<&mut [f64]>, residual: &mut [f64]) -> Result<()> {
-        self.assemble_all(values, residual)
+    fn assemble(&mut self, mut values: Option<&mut [f64]>, residual: &mut [f64]) -> Result<()> {
+        self.assemble_all(values.as_deref_mut(), residual)?;
+        if let Some(v) = values {
+            self.regularize_platens(v, residual);
+        }
+        Ok(())
     }
 
     fn load_norms(&self) -> Vec<f64> {
