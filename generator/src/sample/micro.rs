@@ -1,7 +1,8 @@
 //! The micro-sample model (spec §3, §5, paper Fig. 2 and 5): body 2 (lower)
 //! occupies `z ∈ [−H0, f2(x)]`, body 1 (upper) `z ∈ [f1(x) + g0, H0 + g0]`,
 //! with `g0` such that they first touch at zero load; bottom of body 2 fixed,
-//! rigid platen with `p̄N` on top of body 1, LN or PR lateral faces, mortar
+//! rigid platen with `p̄N` on top of body 1 (held or free laterally, paper
+//! Sect. 5.3), LN or PR lateral faces, mortar
 //! contact with body 2 as master (or body 1, switchable), and the thermal
 //! conditions of the θ̄c-projection (2.12): the master's external face at a
 //! prescribed temperature, the slave's external face under `h̄`.
@@ -189,15 +190,29 @@ pub fn build_model(
 
 /// The first-touch offset `g0(s) = max_x (f2(x) − f1(x − s))` (m) of the
 /// fitted surfaces when the upper body is slid laterally by `s` (m), periodic
-/// in `x` (PR).
+/// in `x` (PR): the best of `samples` points, refined by golden-section search.
 pub fn first_touch_offset(geo: &SampleGeometry, width: f64, s: f64, samples: usize) -> f64 {
-    (0..samples)
-        .map(|i| {
-            let x = width * i as f64 / samples as f64;
-            let xu = (x - s).rem_euclid(width);
-            fitted_height(&geo.fit_lower, width, x) - fitted_height(&geo.fit_upper, width, xu)
-        })
-        .fold(f64::NEG_INFINITY, f64::max)
+    let gap = |x: f64| {
+        let xl = x.rem_euclid(width);
+        let xu = (x - s).rem_euclid(width);
+        fitted_height(&geo.fit_lower, width, xl) - fitted_height(&geo.fit_upper, width, xu)
+    };
+    let dx = width / samples as f64;
+    let (mut xb, mut gb) = (0.0, f64::NEG_INFINITY);
+    for i in 0..samples {
+        let x = dx * i as f64;
+        let g = gap(x);
+        if g > gb {
+            (xb, gb) = (x, g);
+        }
+    }
+    let (mut a, mut b) = (xb - dx, xb + dx);
+    let r = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..60 {
+        let (c, e) = (b - r * (b - a), a + r * (b - a));
+        if gap(c) > gap(e) { b = e } else { a = c }
+    }
+    gb.max(gap(0.5 * (a + b)))
 }
 
 /// The lateral offset (m) to which rigid bodies under a normal load slide
@@ -215,7 +230,7 @@ pub fn rigid_sliding_offset(case: &Case, geo: &SampleGeometry) -> f64 {
     let (mut k, mut zk) = (0i64, z(0.0));
     let (zp, zm) = (z(h), z(-h));
     let step = if zp <= zm { 1 } else { -1 };
-    let tol = 1e-12 * w;
+    let tol = 1e-9 * w;
     if zp.min(zm) < zk - tol {
         while k.abs() < n {
             let zn = z((k + step) as f64 * h);
@@ -340,4 +355,44 @@ pub fn net_lateral_force(model: &mut Model) -> Result<Option<f64>> {
     let mut r = vec![0.0; model.n_eq()];
     model.assemble(None, &mut r)?;
     Ok(Some(r[eq] * model.scales.stress * model.scales.length))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn geometry(upper: &str, lower: &str) -> (Case, SampleGeometry) {
+        let text = format!(
+            "[surface.upper]\n{upper}\n[surface.lower]\n{lower}\n\
+             [discretization]\nelements_upper = [16, 4]\nelements_lower = [12, 4]\n"
+        );
+        let case = Case::from_toml(&text, std::path::Path::new(".")).unwrap();
+        let w = case.sample.width;
+        let su = case.surface.upper.build("u", w, &case.base_dir).unwrap();
+        let sl = case.surface.lower.build("l", w, &case.base_dir).unwrap();
+        let geo = sample_geometry(&case, su.as_ref(), sl.as_ref());
+        (case, geo)
+    }
+
+    #[test]
+    fn rigid_sliding_offset_matches_shifted_sinusoids() {
+        let sin = |phase: f64| {
+            format!("kind = \"sinusoid\"\nrms = 1e-6\nwavelength = 1e-5\nphase = {phase:e}")
+        };
+        let w = 1.0e-5;
+        for (phase, expected) in [
+            (std::f64::consts::FRAC_PI_2, 0.25 * w),
+            (-std::f64::consts::FRAC_PI_2, -0.25 * w),
+            (0.0, 0.0),
+        ] {
+            let (case, geo) = geometry(&sin(phase), &sin(0.0));
+            let s = rigid_sliding_offset(&case, &geo);
+            assert!((s - expected).abs() < 1e-3 * w, "phase {phase}: {s}");
+            // There the surfaces match (up to the fits).
+            assert!(first_touch_offset(&geo, w, s, 4096) < 1e-8);
+        }
+        // A sinusoid on a flat is neutral: no slide.
+        let (case, geo) = geometry(&sin(0.3), "kind = \"flat\"");
+        assert_eq!(rigid_sliding_offset(&case, &geo), 0.0);
+    }
 }
