@@ -52,3 +52,22 @@ fn self_consistent_jump_saturates_with_height() {
 fn hbp_with_the_self_consistent_jump_reproduces_the_coupled_ohp() {
     run("hbp_validation");
 }
+
+/// Sect. 5.3: symmetric cells (sinusoid on flat, matched sinusoids) give the
+/// same jump with LN and PR lateral faces (relative 1e−6).
+#[test]
+fn symmetric_cells_agree_with_ln_and_pr() {
+    run("lateral_symmetric");
+}
+
+/// Fig. 11: mismatched sinusoids (phase π/2): PR jump below LN (ratio < 0.97)
+/// at 3.5, 7, 14 μm; with the top held the PR jump and gap shrink with the
+/// height (each doubling < 0.95) while LN stays within 2 %; with the top free
+/// the upper body slides to the matched pair (offset λ/4 within 1e−4 λ; jump
+/// within 2 % of the matched pair's, i.e. 1e−4 of the LN jump; net lateral
+/// force < 1e−6 p̄N W). About 15 s; `TCGEN_LONG_TESTS=1` adds 28 μm and the
+/// paper's meshes (about 4 min).
+#[test]
+fn lateral_sliding_follows_fig_11() {
+    run("lateral_mismatched");
+}

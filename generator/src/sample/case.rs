@@ -22,6 +22,54 @@ pub enum LateralCondition {
     Linear,
 }
 
+/// Lateral condition of the upper body's top face (the platen, spec §5).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(try_from = "String", into = "String")]
+pub enum TopLateral {
+    /// Every top control point has `ux = 0`: a laterally rigid platen, no
+    /// macroscopic sliding (the bodies slide only through the shear of the
+    /// sample; paper Fig. 11).
+    #[default]
+    Fixed,
+    /// The top face is free laterally: with PR its control points share one
+    /// lateral displacement whose conjugate equation is the total lateral
+    /// force, zero, so that the upper body slides to equilibrium (the net
+    /// tangential contact force vanishes). With LN it is what LN implies.
+    Free,
+}
+
+impl TopLateral {
+    /// The key's values, as written in a case file.
+    pub const VALUES: [&'static str; 2] = ["fixed", "free"];
+
+    /// The value as written in a case file.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            TopLateral::Fixed => "fixed",
+            TopLateral::Free => "free",
+        }
+    }
+}
+
+impl TryFrom<String> for TopLateral {
+    type Error = String;
+    fn try_from(s: String) -> std::result::Result<Self, String> {
+        match s.as_str() {
+            "fixed" => Ok(TopLateral::Fixed),
+            "free" => Ok(TopLateral::Free),
+            _ => Err(format!(
+                "sample.top_lateral = \"{s}\": expected \"fixed\" or \"free\""
+            )),
+        }
+    }
+}
+
+impl From<TopLateral> for String {
+    fn from(t: TopLateral) -> String {
+        t.as_str().into()
+    }
+}
+
 /// `[sample]`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -32,6 +80,8 @@ pub struct SampleSection {
     pub height: f64,
     /// Lateral condition.
     pub lateral: LateralCondition,
+    /// Lateral condition of the upper body's top face.
+    pub top_lateral: TopLateral,
 }
 
 impl Default for SampleSection {
@@ -40,6 +90,7 @@ impl Default for SampleSection {
             width: 1.0e-5,
             height: 7.0e-6,
             lateral: LateralCondition::Periodic,
+            top_lateral: TopLateral::Fixed,
         }
     }
 }
@@ -355,6 +406,19 @@ kind = "flat"
         assert_eq!(u, Material::default());
         assert_eq!(l, Material::default());
         assert_eq!(c.discretization.degree, 2);
+        assert_eq!(c.sample.top_lateral, TopLateral::Fixed);
+    }
+
+    #[test]
+    fn top_lateral_parses_and_names_the_allowed_values() {
+        for v in TopLateral::VALUES {
+            let t = format!("{MINIMAL}\n[sample]\ntop_lateral = \"{v}\"\n");
+            let c = Case::from_toml(&t, Path::new(".")).unwrap();
+            assert_eq!(c.sample.top_lateral.as_str(), v);
+        }
+        let t = format!("{MINIMAL}\n[sample]\ntop_lateral = \"slide\"\n");
+        let e = Case::from_toml(&t, Path::new(".")).unwrap_err().to_string();
+        assert!(e.contains("\"fixed\" or \"free\""), "{e}");
     }
 
     #[test]
@@ -383,6 +447,7 @@ kind = "flat"
             ),
             ("[load]\nflux = nan\n", "load.flux"),
             ("[sample]\nwidht = 1.0\n", "widht"),
+            ("[sample]\ntop_lateral = \"slide\"\n", "sample.top_lateral"),
         ] {
             let e = Case::from_toml(&format!("{MINIMAL}\n{extra}"), Path::new("."))
                 .unwrap_err()

@@ -1,7 +1,8 @@
 //! The micro-sample model (spec §3, §5, paper Fig. 2 and 5): body 2 (lower)
 //! occupies `z ∈ [−H0, f2(x)]`, body 1 (upper) `z ∈ [f1(x) + g0, H0 + g0]`,
 //! with `g0` such that they first touch at zero load; bottom of body 2 fixed,
-//! rigid platen with `p̄N` on top of body 1, LN or PR lateral faces, mortar
+//! rigid platen with `p̄N` on top of body 1 (held or free laterally, paper
+//! Sect. 5.3), LN or PR lateral faces, mortar
 //! contact with body 2 as master (or body 1, switchable), and the thermal
 //! conditions of the θ̄c-projection (2.12): the master's external face at a
 //! prescribed temperature, the slave's external face under `h̄`.
@@ -9,8 +10,8 @@
 use crate::bulk::Coupling;
 use crate::geometry::{FitMethod, RoughFace, Side, SurfaceFit, fit_height_function, rough_block};
 use crate::material::Material;
-use crate::sample::case::{Case, LateralCondition, MasterBody};
-use crate::solve::{Model, ModelBuilder, Scales};
+use crate::sample::case::{Case, LateralCondition, MasterBody, TopLateral};
+use crate::solve::{Model, ModelBuilder, NonlinearProblem, Scales};
 use crate::surface::Surface;
 use crate::{Error, Result};
 
@@ -141,12 +142,20 @@ pub fn build_model(
         LateralCondition::Periodic => {
             mb.periodic(lo, 0);
             mb.periodic(up, 0);
-            // The upper body's rigid lateral translation: pinned at one top
-            // control point; the pin's reaction is the net tangential contact
-            // force, zero for symmetric or neutral cells (reported).
-            let top = mb.bodies()[up].face_nodes(1, Side::High)[0];
-            mb.fix_node(top, 0, 0.0);
         }
+    }
+    // The top face laterally: held (no macroscopic sliding), or free. Free
+    // with PR: the upper body's rigid lateral translation is the unknown of
+    // a sliding platen whose equation is a zero net lateral force, i.e. the
+    // net tangential contact force vanishes (frictionless sliding, spec §5).
+    let sliding = case.sample.lateral == LateralCondition::Periodic
+        && case.sample.top_lateral == TopLateral::Free;
+    match case.sample.top_lateral {
+        TopLateral::Fixed => mb.fix_face(up, 1, Side::High, 0, 0.0),
+        TopLateral::Free if sliding => {
+            mb.sliding_platen(up, 1, Side::High, 0);
+        }
+        TopLateral::Free => {}
     }
     // Thermal: θ̄c-projection (2.12); the nominal flux load is |h̄| (multiplier 1).
     let (master, slave) = match case.homogenization.master {
@@ -164,8 +173,82 @@ pub fn build_model(
     };
     mb.contact(cs, cm, &case.contact, period)?;
     let mut model = mb.build(coupling)?;
+    if sliding {
+        // Start from the rigid bodies' equilibrium: the upper body slid to
+        // the offset where it first touches lowest (Newton then corrects it
+        // for elasticity, instead of sliding a wavelength fraction itself).
+        let s = model.scales.len(rigid_sliding_offset(case, geo));
+        let nf = model.dim + 1;
+        let b = &model.bodies[UPPER];
+        for n in b.node_offset..b.node_offset + b.patch.n_control_points() {
+            model.state[n * nf] = s;
+        }
+    }
     model.touch(UPPER, 1)?;
     Ok(model)
+}
+
+/// The first-touch offset `g0(s) = max_x (f2(x) − f1(x − s))` (m) of the
+/// fitted surfaces when the upper body is slid laterally by `s` (m), periodic
+/// in `x` (PR): the best of `samples` points, refined by golden-section search.
+pub fn first_touch_offset(geo: &SampleGeometry, width: f64, s: f64, samples: usize) -> f64 {
+    let gap = |x: f64| {
+        let xl = x.rem_euclid(width);
+        let xu = (x - s).rem_euclid(width);
+        fitted_height(&geo.fit_lower, width, xl) - fitted_height(&geo.fit_upper, width, xu)
+    };
+    let dx = width / samples as f64;
+    let (mut xb, mut gb) = (0.0, f64::NEG_INFINITY);
+    for i in 0..samples {
+        let x = dx * i as f64;
+        let g = gap(x);
+        if g > gb {
+            (xb, gb) = (x, g);
+        }
+    }
+    let (mut a, mut b) = (xb - dx, xb + dx);
+    let r = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..60 {
+        let (c, e) = (b - r * (b - a), a + r * (b - a));
+        if gap(c) > gap(e) { b = e } else { a = c }
+    }
+    gb.max(gap(0.5 * (a + b)))
+}
+
+/// The lateral offset (m) to which rigid bodies under a normal load slide
+/// from the reference position (PR, frictionless): the local minimum of the
+/// first-touch height [`first_touch_offset`] reached downhill from `s = 0`
+/// (on a grid of `W/512`, refined by golden-section search; the lower
+/// neighbour decides at a maximum, `+` on a tie). Within `(−W, W)`.
+pub fn rigid_sliding_offset(case: &Case, geo: &SampleGeometry) -> f64 {
+    let w = case.sample.width;
+    let d = &case.discretization;
+    let samples = 64 * (d.elements_upper[0].max(d.elements_lower[0]) + 1);
+    let n = 512;
+    let h = w / n as f64;
+    let z = |s: f64| first_touch_offset(geo, w, s, samples);
+    let (mut k, mut zk) = (0i64, z(0.0));
+    let (zp, zm) = (z(h), z(-h));
+    let step = if zp <= zm { 1 } else { -1 };
+    let tol = 1e-9 * w;
+    if zp.min(zm) < zk - tol {
+        while k.abs() < n {
+            let zn = z((k + step) as f64 * h);
+            if zn >= zk - tol {
+                break;
+            }
+            (k, zk) = (k + step, zn);
+        }
+    } else {
+        return 0.0;
+    }
+    let (mut a, mut b) = ((k - 1) as f64 * h, (k + 1) as f64 * h);
+    let r = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..60 {
+        let (c, e) = (b - r * (b - a), a + r * (b - a));
+        if z(c) < z(e) { b = e } else { a = c }
+    }
+    0.5 * (a + b)
 }
 
 /// The slave body's index for a case.
@@ -187,8 +270,12 @@ pub struct InterfaceMeasures {
     pub mean_pressure_power: f64,
     /// Largest lumped temperature jump `|γθ^I|` over the active set (K).
     pub max_active_jump: f64,
-    /// Approach of the platen (m), positive in compression.
+    /// Approach of the platen (m), positive in compression (with a free
+    /// sliding top, PR, it includes the rigid descent of the initial slide).
     pub approach: f64,
+    /// Lateral offset of the upper body: the mean `ux` of its top control
+    /// points (m); zero when the top face is held laterally.
+    pub lateral_offset: f64,
 }
 
 /// Measures the interface of a solved model; `alpha` the exponent of `[pN^α]`.
@@ -237,11 +324,75 @@ pub fn measure(model: &Model, alpha: f64) -> Result<InterfaceMeasures> {
         .map(|i| c.weighted_jump(i).abs())
         .fold(0.0, f64::max);
     let pl = &model.platens()[0];
+    let top = model.bodies[UPPER].face_nodes(1, Side::High);
+    let lateral_offset =
+        top.iter().map(|&n| model.displacement(n, 0)).sum::<f64>() / top.len() as f64;
     Ok(InterfaceMeasures {
         contact_fraction: if total > 0.0 { contact / total } else { 0.0 },
         mean_gap: gsum / wsum * s.length,
         mean_pressure_power: ppow * s.stress.powf(alpha),
         max_active_jump: max_jump * s.temperature,
         approach: -model.displacement(pl.nodes[0], pl.field),
+        lateral_offset,
     })
+}
+
+/// The net lateral force on the upper body (N per m of depth) when its top
+/// face slides freely (PR, `top_lateral = "free"`): the residual of the
+/// sliding platen's equation, i.e. the net tangential contact force, which
+/// equilibrium makes zero. `None` without a sliding platen or outside the
+/// mechanical unknowns (thermal phase).
+pub fn net_lateral_force(model: &mut Model) -> Result<Option<f64>> {
+    let Some(eq) = model
+        .platens()
+        .iter()
+        .find(|p| p.regularization > 0.0)
+        .and_then(|p| model.dofs().eq(p.nodes[0], p.field))
+    else {
+        return Ok(None);
+    };
+    model.prepare()?;
+    let mut r = vec![0.0; model.n_eq()];
+    model.assemble(None, &mut r)?;
+    Ok(Some(r[eq] * model.scales.stress * model.scales.length))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn geometry(upper: &str, lower: &str) -> (Case, SampleGeometry) {
+        let text = format!(
+            "[surface.upper]\n{upper}\n[surface.lower]\n{lower}\n\
+             [discretization]\nelements_upper = [16, 4]\nelements_lower = [12, 4]\n"
+        );
+        let case = Case::from_toml(&text, std::path::Path::new(".")).unwrap();
+        let w = case.sample.width;
+        let su = case.surface.upper.build("u", w, &case.base_dir).unwrap();
+        let sl = case.surface.lower.build("l", w, &case.base_dir).unwrap();
+        let geo = sample_geometry(&case, su.as_ref(), sl.as_ref());
+        (case, geo)
+    }
+
+    #[test]
+    fn rigid_sliding_offset_matches_shifted_sinusoids() {
+        let sin = |phase: f64| {
+            format!("kind = \"sinusoid\"\nrms = 1e-6\nwavelength = 1e-5\nphase = {phase:e}")
+        };
+        let w = 1.0e-5;
+        for (phase, expected) in [
+            (std::f64::consts::FRAC_PI_2, 0.25 * w),
+            (-std::f64::consts::FRAC_PI_2, -0.25 * w),
+            (0.0, 0.0),
+        ] {
+            let (case, geo) = geometry(&sin(phase), &sin(0.0));
+            let s = rigid_sliding_offset(&case, &geo);
+            assert!((s - expected).abs() < 1e-3 * w, "phase {phase}: {s}");
+            // There the surfaces match (up to the fits).
+            assert!(first_touch_offset(&geo, w, s, 4096) < 1e-8);
+        }
+        // A sinusoid on a flat is neutral: no slide.
+        let (case, geo) = geometry(&sin(0.3), "kind = \"flat\"");
+        assert_eq!(rigid_sliding_offset(&case, &geo), 0.0);
+    }
 }

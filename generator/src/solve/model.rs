@@ -79,6 +79,16 @@ pub struct ModelBuilder {
     contact: Option<ContactInterface>,
 }
 
+/// Relative tangent regularization of a [`ModelBuilder::sliding_platen`]
+/// (stiffness `· E |A| / L` at the start of a load step, then scaled down
+/// with the residual). It enters the tangent only, so it changes the Newton
+/// path, never the converged state: too small and a slide resisted by one
+/// contact point on a slope (first touch) takes an enormous step (1e-8
+/// diverges on the mismatched sinusoids of Fig. 11); too large and kept
+/// constant, Newton converges only linearly where the contact hardly resists
+/// the slide (a sinusoid on a flat).
+pub const SLIDING_REGULARIZATION: f64 = 1e-3;
+
 /// A rigid platen: the face's nodes share the displacement component `field`.
 #[derive(Clone, Debug)]
 pub struct Platen {
@@ -88,6 +98,11 @@ pub struct Platen {
     pub field: usize,
     /// The face area (scaled).
     pub area: f64,
+    /// Stiffness (scaled) added to the tangent of the shared unknown only,
+    /// never to the residual: it makes a rigid mode without physical
+    /// stiffness well-posed while the converged state satisfies the platen's
+    /// force equation exactly (0 for a plain platen).
+    pub regularization: f64,
 }
 
 impl ModelBuilder {
@@ -259,8 +274,30 @@ impl ModelBuilder {
         let sign = if side == Side::High { -1.0 } else { 1.0 };
         let force = sign * self.scales.pres(pressure) * area;
         self.point_loads.push((nodes[0], field, force));
-        self.platens.push(Platen { nodes, field, area });
+        self.platens.push(Platen {
+            nodes,
+            field,
+            area,
+            regularization: 0.0,
+        });
         self.platens.len() - 1
+    }
+
+    /// Sliding platen on a face: its nodes share displacement component
+    /// `field` and no force acts on it, so that its conjugate equation is a
+    /// vanishing total force (e.g. the lateral force on a body free to slide,
+    /// spec §5). The shared unknown's tangent is regularized by the stiffness
+    /// [`SLIDING_REGULARIZATION`]` · E · |A| / L` of the body, which leaves
+    /// the residual and hence the converged state untouched (a rigid mode
+    /// without contact stiffness, e.g. at first touch, stays solvable).
+    /// Returns the platen index.
+    pub fn sliding_platen(&mut self, body: usize, dir: usize, side: Side, field: usize) -> usize {
+        let i = self.platen(body, dir, side, field, 0.0);
+        let p = &mut self.platens[i];
+        // Scaled: L = 1 (the sample width), E of the body.
+        p.regularization =
+            SLIDING_REGULARIZATION * self.bodies[body].material.youngs_modulus * p.area;
+        i
     }
 
     /// Uniform dead traction (Pa, per reference area) on a face.
@@ -351,6 +388,7 @@ impl ModelBuilder {
             initial: state.clone(),
             state,
             load_factor: 0.0,
+            step_residual: None,
             coupling,
             contact: self.contact,
             n_bulk_eq: 0,
@@ -399,6 +437,8 @@ pub struct Model {
     /// Current state: `dim + 1` components per node (scaled).
     pub state: Vec<f64>,
     load_factor: f64,
+    /// Mechanical residual norm at the first assembly of the load step.
+    step_residual: Option<f64>,
     coupling: Coupling,
     dofs: DofMap,
     assembly: Assembly,
@@ -841,6 +881,43 @@ impl Model {
         Ok(())
     }
 
+    /// Adds the sliding platens' regularization to the tangent's diagonal
+    /// (never to the residual), scaled by the mechanical residual relative to
+    /// the first one of the load step, within `[1e-6, 1]`: full at the start
+    /// of a step (bounded steps along a slide without contact stiffness),
+    /// vanishing as Newton converges (its quadratic rate is kept where the
+    /// contact resists the slide only weakly), Levenberg–Marquardt-like.
+    fn regularize_platens(&mut self, values: &mut [f64], residual: &[f64]) {
+        if self.platens.iter().all(|p| p.regularization == 0.0) {
+            return;
+        }
+        let norm = residual
+            .iter()
+            .zip(&self.eq_class)
+            .filter(|(_, c)| **c == 0)
+            .map(|(r, _)| r * r)
+            .sum::<f64>()
+            .sqrt();
+        let first = *self.step_residual.get_or_insert(norm);
+        let ratio = if first > 0.0 {
+            (norm / first).clamp(1e-6, 1.0)
+        } else {
+            1.0
+        };
+        let pattern = self.assembly.symbolic();
+        for p in self.platens.iter().filter(|p| p.regularization > 0.0) {
+            let Some(e) = self.dofs.eq(p.nodes[0], p.field) else {
+                continue;
+            };
+            let range = pattern.col_ptr()[e]..pattern.col_ptr()[e + 1];
+            let k = range
+                .clone()
+                .find(|&k| pattern.row_idx()[k] == e)
+                .expect("the pattern holds the diagonal");
+            values[k] += p.regularization * ratio;
+        }
+    }
+
     /// Contact multipliers as a state vector (λN then λθ).
     fn multipliers(&self) -> Vec<f64> {
         match &self.contact {
@@ -899,6 +976,7 @@ impl NonlinearProblem for Model {
     }
 
     fn set_load(&mut self, load_factor: f64) {
+        self.step_residual = None;
         self.load_factor = load_factor;
         let (a, b) = self.path;
         self.load = [
@@ -909,8 +987,12 @@ impl NonlinearProblem for Model {
             .impose(&mut self.state, &self.initial, load_factor);
     }
 
-    fn assemble(&mut self, values: Option<&mut [f64]>, residual: &mut [f64]) -> Result<()> {
-        self.assemble_all(values, residual)
+    fn assemble(&mut self, mut values: Option<&mut [f64]>, residual: &mut [f64]) -> Result<()> {
+        self.assemble_all(values.as_deref_mut(), residual)?;
+        if let Some(v) = values {
+            self.regularize_platens(v, residual);
+        }
+        Ok(())
     }
 
     fn load_norms(&self) -> Vec<f64> {
@@ -963,6 +1045,63 @@ impl NonlinearProblem for Model {
             let ns = c.n_slave();
             c.lambda_n.copy_from_slice(&saved[n..n + ns]);
             c.lambda_t.copy_from_slice(&saved[n + ns..n + 2 * ns]);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solve::{LoadStepping, Newton, NewtonSettings};
+    use crate::verify::bulk::block_mesh;
+
+    /// A block, bottom `uy = 0`; bottom `ux` fixed (`fixed_base`) or a
+    /// sliding platen (a rigid lateral mode without stiffness); top `ux` a
+    /// sliding platen under the shear `τ` (a traction), or a plain platen
+    /// pushed by `τ`.
+    fn sheared_block(fixed_base: bool, sliding_top: bool, tau: f64) -> Model {
+        let m = Material::default();
+        let mut b = ModelBuilder::new(2, Scales::new(1.0, &m));
+        let body = b
+            .add_body("block", &block_mesh(1.0, 0.5, 2, 3, 2), &m)
+            .unwrap();
+        b.fix_face(body, 1, Side::Low, 1, 0.0);
+        if fixed_base {
+            b.fix_face(body, 1, Side::Low, 0, 0.0);
+        } else {
+            b.sliding_platen(body, 1, Side::Low, 0);
+        }
+        if sliding_top {
+            b.sliding_platen(body, 1, Side::High, 0);
+            b.traction(body, 1, Side::High, [tau, 0.0, 0.0]);
+        } else {
+            // A platen pushing with −τ on a High face: the force +τ|A| in x.
+            b.platen(body, 1, Side::High, 0, -tau);
+        }
+        let mut model = b.build(Coupling::Mechanical).unwrap();
+        model.set_path([0.0, 0.0], [1.0, 0.0]);
+        Newton::new(NewtonSettings::default(), LoadStepping::default())
+            .solve(&mut model)
+            .unwrap();
+        model
+    }
+
+    #[test]
+    fn sliding_platen_regularizes_the_tangent_only() {
+        // Singular without the regularization, and no force: no motion.
+        let still = sheared_block(false, true, 0.0);
+        assert!(still.state.iter().step_by(3).all(|u| u.abs() < 1e-12));
+        // Sheared: the sliding platen's equation is the total force, exactly
+        // as for a plain platen (no regularization) with the same force.
+        let tau = 2.0e4;
+        let (a, b) = (
+            sheared_block(true, true, tau),
+            sheared_block(true, false, tau),
+        );
+        let ux = a.state[a.platens()[0].nodes[0] * 3];
+        assert!(ux > 1e-3, "ux {ux}");
+        for (x, y) in a.state.iter().zip(&b.state) {
+            assert!((x - y).abs() <= 1e-10 * ux, "{x} vs {y}");
         }
     }
 }

@@ -12,6 +12,7 @@ use crate::Result;
 pub mod bulk;
 pub mod contact;
 pub mod homogenization;
+pub mod lateral;
 pub mod mms;
 
 /// One line of the verification table.
@@ -166,6 +167,7 @@ pub fn catalogue() -> Vec<Case> {
     v.extend(bulk::cases());
     v.extend(contact::cases());
     v.extend(homogenization::cases());
+    v.extend(lateral::cases());
     v
 }
 

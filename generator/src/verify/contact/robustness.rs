@@ -38,6 +38,7 @@ pub fn sinusoid_case(
             width: 1.0e-5,
             height: 7.0e-6,
             lateral,
+            ..SampleSection::default()
         },
         surface: SurfaceSection {
             upper: SurfaceSpec::Sinusoid {
