@@ -5,7 +5,7 @@
 
 use tcgen::bulk::Coupling;
 use tcgen::sample::case::{LateralCondition, Method};
-use tcgen::sample::micro::{ThermalBc, build_model, sample_geometry};
+use tcgen::sample::micro::{ThermalBc, build_model, case_geometry};
 use tcgen::solve::{LoadStepping, Model, Newton, NewtonSettings, NonlinearProblem};
 use tcgen::verify::contact::robustness::sinusoid_case;
 
@@ -21,17 +21,7 @@ fn loaded(degree: usize, pressure: f64) -> Model {
         Method::TwoPhase,
     );
     let (mu, ml) = case.materials().unwrap();
-    let su = case
-        .surface
-        .upper
-        .build("surface.upper", case.sample.width, &case.base_dir)
-        .unwrap();
-    let sl = case
-        .surface
-        .lower
-        .build("surface.lower", case.sample.width, &case.base_dir)
-        .unwrap();
-    let geo = sample_geometry(&case, su.as_ref(), sl.as_ref());
+    let geo = case_geometry(&case).unwrap();
     let bc = ThermalBc {
         master_face_temperature: case.load.contact_temperature,
         flux: case.load.flux,

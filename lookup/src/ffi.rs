@@ -211,6 +211,17 @@ fn fail(code: i32, message: &str) -> i32 {
     code
 }
 
+/// Stores a built law as a new handle in `law`; the status code.
+fn into_handle(built: Result<Law, Error>, law: &mut *mut LookupLaw) -> i32 {
+    match built {
+        Ok(l) => {
+            *law = Box::into_raw(Box::new(LookupLaw(l)));
+            LOOKUP_OK
+        }
+        Err(e) => file_error(e),
+    }
+}
+
 /// Runs `f`, turning a panic into [`LOOKUP_ERR_PANIC`].
 fn guard(f: impl FnOnce() -> i32) -> i32 {
     catch_unwind(AssertUnwindSafe(f))
@@ -258,13 +269,7 @@ pub unsafe extern "C" fn lookup_law_open(path: *const c_char, status: *mut i32) 
             Ok(p) => p,
             Err(code) => return code,
         };
-        match Law::open(path) {
-            Ok(l) => {
-                law = Box::into_raw(Box::new(LookupLaw(l)));
-                LOOKUP_OK
-            }
-            Err(e) => file_error(e),
-        }
+        into_handle(Law::open(path), &mut law)
     });
     // SAFETY: forwarded from the caller.
     unsafe { put_status(status, code) };
@@ -336,13 +341,7 @@ pub unsafe extern "C" fn lookup_law_from_grid(
             extrapolation: crate::ExtrapolationPolicy::uniform(policy),
             provenance: vec![("generator".into(), "lookup C ABI".into())],
         };
-        match Law::from_grid(axes, mean, std, info) {
-            Ok(l) => {
-                law = Box::into_raw(Box::new(LookupLaw(l)));
-                LOOKUP_OK
-            }
-            Err(e) => file_error(e),
-        }
+        into_handle(Law::from_grid(axes, mean, std, info), &mut law)
     });
     // SAFETY: forwarded from the caller.
     unsafe { put_status(status, code) };

@@ -122,6 +122,8 @@ pub struct ContactInterface {
     segmenter: Option<Segmenter>,
     /// Breakpoints of the current segmentation.
     breakpoints: Vec<Breakpoint>,
+    /// Slave and master control-point positions the segmentation was made for.
+    segmented_at: Vec<[f64; 3]>,
     /// Second-derivative terms of the weighted gaps from moving breakpoints.
     break_terms: Vec<BreakTerm>,
 }
@@ -261,16 +263,18 @@ impl ContactInterface {
             band: vec![BTreeSet::new(); n_s],
             segmenter,
             breakpoints: Vec::new(),
+            segmented_at: Vec::new(),
             break_terms: Vec::new(),
         })
     }
 
     /// Re-segments the slave surface for the current configuration
-    /// (segment-based integration): new points, and which points each
-    /// slave node and each continuum element sees.
+    /// (segment-based integration; `slave_cur`: the slave face's current
+    /// control points): new points, and which points each slave node and
+    /// each continuum element sees.
     fn segment(
         &mut self,
-        state: &[f64],
+        slave_cur: &[[f64; 3]],
         curve: &NurbsPatch,
         samples: &MasterSamples,
     ) -> Result<()> {
@@ -278,13 +282,11 @@ impl ContactInterface {
             return Ok(());
         };
         let face = seg.face();
-        let current: Vec<[f64; 3]> = self
-            .slave_nodes
-            .iter()
-            .zip(&self.slave_ref)
-            .map(|(&n, x)| [x[0] + state[n * 3], x[1] + state[n * 3 + 1], 0.0])
-            .collect();
-        let current = NurbsPatch::new(face.knots().to_vec(), current, face.weights().to_vec())?;
+        let current = NurbsPatch::new(
+            face.knots().to_vec(),
+            slave_cur.to_vec(),
+            face.weights().to_vec(),
+        )?;
         let period = self.period;
         let (points, breakpoints) = seg.points(&current, |x| {
             let pr = project(curve, x, None, period, samples)?;
@@ -406,6 +408,10 @@ impl ContactInterface {
         };
         let master_cur = cur(&self.master_nodes, &self.master_ref);
         let slave_cur = cur(&self.slave_nodes, &self.slave_ref);
+        // The segmentation depends on the positions only: it is kept while
+        // they do not move (the thermal phase on a frozen configuration).
+        let positions: Vec<[f64; 3]> = slave_cur.iter().chain(&master_cur).copied().collect();
+        let resegment = self.segmenter.is_some() && positions != self.segmented_at;
         let curve = NurbsPatch::new(
             self.master_face.knots().to_vec(),
             master_cur,
@@ -413,8 +419,9 @@ impl ContactInterface {
         )?;
         let mut previous = std::mem::take(&mut self.state);
         let samples = MasterSamples::new(&curve);
-        if self.segmenter.is_some() {
-            self.segment(state, &curve, &samples)?;
+        if resegment {
+            self.segment(&slave_cur, &curve, &samples)?;
+            self.segmented_at = positions;
             // The points moved: no previous projection to start from.
             previous.clear();
         }

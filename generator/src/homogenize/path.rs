@@ -10,8 +10,8 @@ use crate::homogenize::abp::{AbpProperties, AbpTemperatures, accompanying_bar};
 use crate::material::Material;
 use crate::sample::case::{Case, MasterBody, Method};
 use crate::sample::micro::{
-    InterfaceMeasures, LOWER, SampleGeometry, ThermalBc, UPPER, build_model, measure,
-    sample_geometry, slave_body,
+    InterfaceMeasures, LOWER, SampleGeometry, ThermalBc, UPPER, build_model, case_geometry,
+    measure, slave_body,
 };
 use crate::solve::{Model, Newton, NonlinearProblem};
 use crate::{Error, Result};
@@ -99,15 +99,7 @@ impl<'a> PathSolver<'a> {
     /// Prepares the model of a case.
     pub fn new(case: &'a Case) -> Result<Self> {
         let materials = case.materials()?;
-        let su = case
-            .surface
-            .upper
-            .build("surface.upper", case.sample.width, &case.base_dir)?;
-        let sl = case
-            .surface
-            .lower
-            .build("surface.lower", case.sample.width, &case.base_dir)?;
-        let geometry = sample_geometry(case, su.as_ref(), sl.as_ref());
+        let geometry = case_geometry(case)?;
         let theta_c = case.load.contact_temperature;
         let coupling = match case.homogenization.method {
             Method::Coupled | Method::Linearized => Coupling::Coupled,

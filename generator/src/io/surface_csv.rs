@@ -38,14 +38,7 @@ pub fn export_surfaces(case: &Case, points: usize) -> Result<SurfaceExport> {
         return Err(Error::invalid("--points", points, "at least 4"));
     }
     let w = case.sample.width;
-    let up = case
-        .surface
-        .upper
-        .build("surface.upper", w, &case.base_dir)?;
-    let lo = case
-        .surface
-        .lower
-        .build("surface.lower", w, &case.base_dir)?;
+    let (up, lo) = case.surfaces()?;
     let geo = sample_geometry(case, up.as_ref(), lo.as_ref());
     let x: Vec<f64> = (0..points).map(|j| w * j as f64 / points as f64).collect();
     let describe = |s: &crate::surface::SurfaceSpec| {

@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 use crate::contact::ContactSettings;
 use crate::material::Material;
 use crate::solve::{LoadStepping, NewtonSettings};
-use crate::surface::SurfaceSpec;
+use crate::surface::{Surface, SurfaceSpec};
 use crate::{Error, Result};
 
 /// Lateral boundary condition (2.3).
@@ -301,6 +301,19 @@ impl Case {
         Ok((
             resolve(upper, "material.upper")?,
             resolve(lower, "material.lower")?,
+        ))
+    }
+
+    /// Builds the upper and lower surfaces (an error names the key).
+    pub fn surfaces(&self) -> Result<(Box<dyn Surface>, Box<dyn Surface>)> {
+        let w = self.sample.width;
+        Ok((
+            self.surface
+                .upper
+                .build("surface.upper", w, &self.base_dir)?,
+            self.surface
+                .lower
+                .build("surface.lower", w, &self.base_dir)?,
         ))
     }
 

@@ -41,6 +41,12 @@ pub fn fitted_height(fit: &SurfaceFit, width: f64, x: f64) -> f64 {
     (0..=p).map(|j| n[0][j] * fit.heights[span - p + j]).sum()
 }
 
+/// Builds the case's surfaces, fits them and finds `g0`.
+pub fn case_geometry(case: &Case) -> Result<SampleGeometry> {
+    let (upper, lower) = case.surfaces()?;
+    Ok(sample_geometry(case, upper.as_ref(), lower.as_ref()))
+}
+
 /// Fits both surfaces at the discretization's resolution and finds `g0`.
 pub fn sample_geometry(case: &Case, upper: &dyn Surface, lower: &dyn Surface) -> SampleGeometry {
     let w = case.sample.width;

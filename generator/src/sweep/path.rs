@@ -82,16 +82,7 @@ pub fn surface_rms(s: &dyn Surface, width: f64) -> f64 {
 /// case's discretization (`None` if a surface fails to build).
 pub fn sample_surfaces(case: &Case) -> Option<SampleSurfaces> {
     let w = case.sample.width;
-    let up = case
-        .surface
-        .upper
-        .build("surface.upper", w, &case.base_dir)
-        .ok()?;
-    let lo = case
-        .surface
-        .lower
-        .build("surface.lower", w, &case.base_dir)
-        .ok()?;
+    let (up, lo) = case.surfaces().ok()?;
     let geo = crate::sample::micro::sample_geometry(case, up.as_ref(), lo.as_ref());
     Some(SampleSurfaces {
         upper_rms: surface_rms(up.as_ref(), w),

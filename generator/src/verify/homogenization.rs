@@ -35,6 +35,8 @@ pub struct Sample {
     pub height: f64,
     /// `"periodic"` or `"linear"`.
     pub lateral: &'static str,
+    /// `"fixed"` or `"free"` (`[sample] top_lateral`).
+    pub top_lateral: &'static str,
     /// `[surface.upper]` body (TOML keys).
     pub upper: String,
     /// `[surface.lower]` body (TOML keys).
@@ -80,6 +82,7 @@ impl Default for Sample {
             width: 1.0e-5,
             height: 7.0e-6,
             lateral: "periodic",
+            top_lateral: "fixed",
             upper: sinusoid(1.0e-6, 1.0e-5, 0.0),
             lower: flat(),
             material: String::new(),
@@ -98,7 +101,7 @@ impl Sample {
     pub fn toml(&self) -> String {
         let p: Vec<String> = self.pressures.iter().map(|p| format!("{p:e}")).collect();
         format!(
-            "[sample]\nwidth = {:e}\nheight = {:e}\nlateral = \"{}\"\n\
+            "[sample]\nwidth = {:e}\nheight = {:e}\nlateral = \"{}\"\ntop_lateral = \"{}\"\n\
              [surface.upper]\n{}[surface.lower]\n{}[material]\n{}\
              [discretization]\ndegree = 2\nelements_upper = [{}, {}]\nelements_lower = [{}, {}]\n\
              [contact]\n{}[load]\npressures = [{}]\nflux = {:e}\ncontact_temperature = 293.15\n\
@@ -106,6 +109,7 @@ impl Sample {
             self.width,
             self.height,
             self.lateral,
+            self.top_lateral,
             self.upper,
             self.lower,
             self.material,
@@ -231,6 +235,7 @@ fn size_effects_resistive() -> Result<Vec<Check>> {
                 flux,
                 method: "two-phase",
                 master,
+                ..Sample::default()
             };
             let h_um = h0 * 1e6;
             let two_phase = s.jump()?;

@@ -19,11 +19,9 @@
 //! `TCGEN_LONG_TESTS=1` adds 28 μm and the paper's resolution.
 
 use std::f64::consts::FRAC_PI_2;
-use std::path::Path;
 
 use crate::Result;
 use crate::homogenize::path::PathSolver;
-use crate::sample::case::Case as SampleCase;
 use crate::sample::micro::net_lateral_force;
 use crate::verify::homogenization::{Sample, flat, long_runs, sinusoid};
 use crate::verify::{Case, Check, record_series};
@@ -88,14 +86,12 @@ fn cell(upper: String, lower: String, lateral: &'static str, h: f64) -> Sample {
 }
 
 /// Solves a cell with the top face `top_lateral` (`"fixed"` or `"free"`).
-pub fn solve(sample: &Sample, top_lateral: &str) -> Result<Outcome> {
-    // `Sample` renders `[sample]` first: its `lateral` key is the first match.
-    let text = sample.toml().replacen(
-        "lateral = ",
-        &format!("top_lateral = \"{top_lateral}\"\nlateral = "),
-        1,
-    );
-    let case = SampleCase::from_toml(&text, Path::new("."))?;
+pub fn solve(sample: &Sample, top_lateral: &'static str) -> Result<Outcome> {
+    let case = Sample {
+        top_lateral,
+        ..sample.clone()
+    }
+    .case()?;
     let mut solver = PathSolver::new(&case)?;
     let mut out = None;
     for &p in &case.load.pressures {

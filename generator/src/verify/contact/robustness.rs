@@ -19,7 +19,7 @@ use crate::sample::case::{
     DiscretizationSection, HomogenizationSection, LateralCondition, LoadSection, Method,
     SampleSection, SolverSection, SurfaceSection,
 };
-use crate::sample::micro::{ThermalBc, build_model, measure, sample_geometry};
+use crate::sample::micro::{ThermalBc, build_model, case_geometry, measure};
 use crate::solve::{Newton, NonlinearProblem};
 use crate::surface::SurfaceSpec;
 
@@ -95,15 +95,7 @@ pub struct PathPoint {
 /// reaches `target`; every point must converge.
 pub fn run_path(case: &Case, target: f64) -> Result<Vec<PathPoint>> {
     let (mu, ml) = case.materials()?;
-    let su = case
-        .surface
-        .upper
-        .build("surface.upper", case.sample.width, &case.base_dir)?;
-    let sl = case
-        .surface
-        .lower
-        .build("surface.lower", case.sample.width, &case.base_dir)?;
-    let geo = sample_geometry(case, su.as_ref(), sl.as_ref());
+    let geo = case_geometry(case)?;
     let theta_c = case.load.contact_temperature;
     let bc = ThermalBc {
         master_face_temperature: theta_c,
