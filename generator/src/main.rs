@@ -500,13 +500,20 @@ fn solve(path: &std::path::Path, json: bool, vtk: Option<std::path::PathBuf>) ->
             return ExitCode::from(2);
         }
     };
+    // The lateral offset of the upper body only when its top face slides.
+    let sliding = case.sample.top_lateral == tcgen::sample::case::TopLateral::Free;
     if !json {
         println!(
-            "{:>12} {:>9} {:>12} {:>12} {:>12} {:>12} {:>6} {:>6}  status",
+            "{:>12} {:>9} {:>12} {:>12}{} {:>12} {:>12} {:>6} {:>6}  status",
             "pressure/Pa",
             "contact",
             "mean_gap/m",
             "approach/m",
+            if sliding {
+                format!(" {:>12}", "offset/m")
+            } else {
+                String::new()
+            },
             "jump/K",
             "k/(W/m2K)",
             "newton",
@@ -523,11 +530,16 @@ fn solve(path: &std::path::Path, json: bool, vtk: Option<std::path::PathBuf>) ->
                 tcgen::homogenize::Status::Failed(m) => format!("FAILED: {m}"),
             };
             println!(
-                "{:>12.4e} {:>9.4} {:>12.4e} {:>12.4e} {:>12.6e} {:>12.4e} {:>6} {:>6}  {status}",
+                "{:>12.4e} {:>9.4} {:>12.4e} {:>12.4e}{} {:>12.6e} {:>12.4e} {:>6} {:>6}  {status}",
                 r.pressure,
                 r.interface.contact_fraction,
                 r.interface.mean_gap,
                 r.interface.approach,
+                if sliding {
+                    format!(" {:>12.4e}", r.interface.lateral_offset)
+                } else {
+                    String::new()
+                },
                 r.jump,
                 r.conductance,
                 r.newton_iterations,

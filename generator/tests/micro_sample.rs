@@ -146,3 +146,62 @@ fn vtk_output_is_well_formed() {
     assert!(t.contains("contact_pressure") && t.contains("interface_heat_flux"));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `tcgen solve` prints one row per pressure; with a sliding top face
+/// (`top_lateral = "free"`) the table has the `offset/m` column, and its
+/// values are the JSON `lateral_offset`.
+#[test]
+fn solve_table_shows_the_lateral_offset_of_a_sliding_top() {
+    let dir = std::env::temp_dir().join(format!("tcgen-solve-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let run = |top: &str, json: bool| {
+        let text = format!(
+            "[sample]\nwidth = 1.0e-5\nheight = 7.0e-6\ntop_lateral = \"{top}\"\n\
+             [surface.upper]\nkind = \"sinusoid\"\nrms = 1.0e-6\nwavelength = 1.0e-5\nphase = 0.3\n\
+             [surface.lower]\nkind = \"sinusoid\"\nrms = 5.0e-7\nwavelength = 5.0e-6\n\
+             [discretization]\nelements_upper = [12, 6]\nelements_lower = [10, 5]\n\
+             [load]\npressures = [5.0e3, 2.0e4]\nflux = 1.0e6\n\
+             [homogenization]\nmethod = \"two-phase\"\n"
+        );
+        let path = dir.join(format!("{top}.toml"));
+        std::fs::write(&path, text).unwrap();
+        let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_tcgen"));
+        cmd.arg("solve").arg(&path);
+        if json {
+            cmd.arg("--json");
+        }
+        let o = cmd.output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8(o.stdout).unwrap()
+    };
+    let fixed = run("fixed", false);
+    assert!(
+        !fixed.lines().next().unwrap().contains("offset/m"),
+        "{fixed}"
+    );
+    let free = run("free", false);
+    let mut lines = free.lines();
+    let header: Vec<&str> = lines.next().unwrap().split_whitespace().collect();
+    let col = header
+        .iter()
+        .position(|h| *h == "offset/m")
+        .expect("offset column");
+    let offsets: Vec<f64> = lines
+        .map(|l| l.split_whitespace().nth(col).unwrap().parse().unwrap())
+        .collect();
+    let json: Vec<f64> = run("free", true)
+        .lines()
+        .map(|l| {
+            let v: serde_json::Value = serde_json::from_str(l).unwrap();
+            v["lateral_offset"].as_f64().unwrap()
+        })
+        .collect();
+    assert_eq!(offsets.len(), 2);
+    for (t, j) in offsets.iter().zip(&json) {
+        // Printed with 5 significant digits.
+        assert!((t - j).abs() <= 1e-4 * j.abs() + 1e-18, "{t} vs {j}");
+    }
+    // Mismatched surfaces: the body slides.
+    assert!(json.iter().any(|j| j.abs() > 1e-9), "{json:?}");
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -77,30 +77,57 @@ pub fn element_residual_tangent(
     coupling: Coupling,
     fields: &ElementFields<'_>,
     sources: Option<Sources<'_>>,
+    k: Option<&mut [f64]>,
+    r: &mut [f64],
+) {
+    // The dimension as a constant: fixed loop bounds the compiler unrolls.
+    match dim {
+        2 => residual_tangent::<2>(material, quad, coupling, fields, sources, k, r),
+        3 => residual_tangent::<3>(material, quad, coupling, fields, sources, k, r),
+        _ => panic!("spatial dimension {dim} is not 2 or 3"),
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn residual_tangent<const D: usize>(
+    material: &Material,
+    quad: &ElementQuadrature,
+    coupling: Coupling,
+    fields: &ElementFields<'_>,
+    sources: Option<Sources<'_>>,
     mut k: Option<&mut [f64]>,
     r: &mut [f64],
 ) {
-    let nf = coupling.fields_per_node(dim);
+    let nf = coupling.fields_per_node(D);
     let ncp = quad.conn.len();
     let n = ncp * nf;
     debug_assert_eq!(r.len(), n);
     let t_off = match coupling {
-        Coupling::Coupled => dim,
+        Coupling::Coupled => D,
         Coupling::Thermal => 0,
         Coupling::Mechanical => usize::MAX,
     };
     let has_u = coupling != Coupling::Thermal;
     let has_t = coupling != Coupling::Mechanical;
+    let mut ga: Vec<[[f64; D]; D]> = Vec::with_capacity(ncp * D);
+    let mut gth: Vec<f64> = Vec::with_capacity(ncp * D);
+    // The mechanical tangent is symmetric (hyperelastic, `∂P/∂F` has major
+    // symmetry): assemble the blocks above the diagonal and mirror them.
+    let symmetric = coupling == Coupling::Mechanical;
+    let before: Vec<f64> = match k.as_deref() {
+        Some(k) if symmetric => k.to_vec(),
+        _ => Vec::new(),
+    };
     for qp in &quad.points {
         let w = qp.weight;
         let dn = &qp.dr_dx;
         let nn = &qp.r;
-        let f = deformation_gradient(dim, fields.u, dn);
+        let f = deformation_gradient(D, fields.u, dn);
         let mut theta = 0.0;
         let mut grad = Vector3::zeros();
         for a in 0..ncp {
             theta += nn[a] * fields.theta[a];
-            for j in 0..dim {
+            for j in 0..D {
                 grad[j] += fields.theta[a] * dn[a][j];
             }
         }
@@ -111,45 +138,63 @@ pub fn element_residual_tangent(
         if has_u {
             let st = material.stress_tangent(&f, theta);
             for a in 0..ncp {
-                for i in 0..dim {
+                for i in 0..D {
                     let mut v = 0.0;
-                    for j in 0..dim {
+                    for j in 0..D {
                         v += st.p[(i, j)] * dn[a][j];
                     }
                     r[a * nf + i] += w * (v - nn[a] * b[i]);
                 }
             }
             if let Some(k) = k.as_deref_mut() {
+                // ga[a][i][kk][l] = Σ_J N_a,J ∂P_iJ/∂F_kL; then column
+                // (b, kk) gets Σ_L ga[a][i][kk][L] N_b,L in rows (a, i),
+                // which are contiguous in the column-major block.
+                ga.clear();
+                gth.clear();
                 for a in 0..ncp {
-                    for i in 0..dim {
-                        let row = a * nf + i;
-                        // A_a[i][kL] = Σ_J N_a,J dP_iJ/dF_kL
-                        let mut ga = [[0.0; 3]; 3];
-                        for (kk, gak) in ga.iter_mut().enumerate().take(dim) {
-                            for (l, gakl) in gak.iter_mut().enumerate().take(dim) {
+                    for i in 0..D {
+                        let mut g = [[0.0; D]; D];
+                        for (kk, gk) in g.iter_mut().enumerate() {
+                            for (l, gkl) in gk.iter_mut().enumerate() {
                                 let mut s = 0.0;
-                                for j in 0..dim {
+                                for j in 0..D {
                                     s += dn[a][j] * st.dp_df[(3 * i + j, 3 * kk + l)];
                                 }
-                                *gakl = s;
+                                *gkl = s;
                             }
                         }
-                        let mut gth = 0.0;
+                        ga.push(g);
                         if has_t {
-                            for j in 0..dim {
-                                gth += dn[a][j] * st.dp_dtheta[(i, j)];
+                            let mut s = 0.0;
+                            for j in 0..D {
+                                s += dn[a][j] * st.dp_dtheta[(i, j)];
+                            }
+                            gth.push(s);
+                        }
+                    }
+                }
+                for bb in 0..ncp {
+                    // Symmetric: the blocks a ≤ b only (mirrored below).
+                    let rows = if symmetric { bb + 1 } else { ncp };
+                    for kk in 0..D {
+                        let col = &mut k[n * (bb * nf + kk)..n * (bb * nf + kk + 1)];
+                        for a in 0..rows {
+                            for i in 0..D {
+                                let g = &ga[a * D + i][kk];
+                                let mut s = 0.0;
+                                for l in 0..D {
+                                    s += g[l] * dn[bb][l];
+                                }
+                                col[a * nf + i] += w * s;
                             }
                         }
-                        for bb in 0..ncp {
-                            for (kk, gak) in ga.iter().enumerate().take(dim) {
-                                let mut s = 0.0;
-                                for l in 0..dim {
-                                    s += gak[l] * dn[bb][l];
-                                }
-                                k[row + n * (bb * nf + kk)] += w * s;
-                            }
-                            if has_t {
-                                k[row + n * (bb * nf + t_off)] += w * gth * nn[bb];
+                    }
+                    if has_t {
+                        let col = &mut k[n * (bb * nf + t_off)..n * (bb * nf + t_off + 1)];
+                        for a in 0..ncp {
+                            for i in 0..D {
+                                col[a * nf + i] += w * gth[a * D + i] * nn[bb];
                             }
                         }
                     }
@@ -160,7 +205,7 @@ pub fn element_residual_tangent(
             let ht = material.heat_flux_tangent(&f, theta, &grad);
             for a in 0..ncp {
                 let mut v = 0.0;
-                for j in 0..dim {
+                for j in 0..D {
                     v += ht.q[j] * dn[a][j];
                 }
                 r[a * nf + t_off] += w * (-v - nn[a] * rsrc);
@@ -172,14 +217,14 @@ pub fn element_residual_tangent(
                     let mut dth = 0.0;
                     let mut dg = [0.0; 3];
                     let mut df = [[0.0; 3]; 3];
-                    for j in 0..dim {
+                    for j in 0..D {
                         dth -= dn[a][j] * ht.dq_dtheta[j];
-                        for l in 0..dim {
+                        for l in 0..D {
                             dg[l] -= dn[a][j] * ht.dq_dgrad[(j, l)];
                         }
                         if has_u {
-                            for (kk, dfk) in df.iter_mut().enumerate().take(dim) {
-                                for (l, dfkl) in dfk.iter_mut().enumerate().take(dim) {
+                            for (kk, dfk) in df.iter_mut().enumerate().take(D) {
+                                for (l, dfkl) in dfk.iter_mut().enumerate().take(D) {
                                     *dfkl -= dn[a][j] * ht.dq_df[(j, 3 * kk + l)];
                                 }
                             }
@@ -187,19 +232,33 @@ pub fn element_residual_tangent(
                     }
                     for bb in 0..ncp {
                         let mut s = dth * nn[bb];
-                        for l in 0..dim {
+                        for l in 0..D {
                             s += dg[l] * dn[bb][l];
                         }
                         k[row + n * (bb * nf + t_off)] += w * s;
                         if has_u {
-                            for (kk, dfk) in df.iter().enumerate().take(dim) {
+                            for (kk, dfk) in df.iter().enumerate().take(D) {
                                 let mut s = 0.0;
-                                for l in 0..dim {
+                                for l in 0..D {
                                     s += dfk[l] * dn[bb][l];
                                 }
                                 k[row + n * (bb * nf + kk)] += w * s;
                             }
                         }
+                    }
+                }
+            }
+        }
+    }
+    if let Some(k) = k
+        && symmetric
+    {
+        for bb in 0..ncp {
+            for a in 0..bb {
+                for kk in 0..D {
+                    for i in 0..D {
+                        let (row, col) = (a * nf + i, bb * nf + kk);
+                        k[col + n * row] += k[row + n * col] - before[row + n * col];
                     }
                 }
             }

@@ -161,8 +161,9 @@ fn projection_delta<D: DualNum<Primitive = f64>>(g: &PointGeometry, z: &[D], xs:
     delta
 }
 
-/// Normal gap `gN = (x_s − x_m)·n` (positive when apart).
-pub fn normal_gap<D: DualNum<Primitive = f64>>(g: &PointGeometry, z: &[D]) -> D {
+/// Normal gap `gN = (x_s − x_m)·n` (positive when apart) and the
+/// projection increment `δ = η − η0` it was evaluated at.
+fn gap_and_delta<D: DualNum<Primitive = f64>>(g: &PointGeometry, z: &[D]) -> (D, D) {
     let (xs, _) = slave_point(g, z);
     let delta = projection_delta(g, z, &xs);
     let m = master_eval(g, z, &delta);
@@ -176,13 +177,19 @@ pub fn normal_gap<D: DualNum<Primitive = f64>>(g: &PointGeometry, z: &[D]) -> D 
         // At a corner: the distance, signed by the side (the normal cone lies
         // between the normals of the two segments, so either one tells it).
         let distance = (r[0].clone() * &r[0] + r[1].clone() * &r[1]).sqrt();
-        return if along_normal.re() >= 0.0 {
+        let signed = if along_normal.re() >= 0.0 {
             distance
         } else {
             -distance
         };
+        return (signed, delta);
     }
-    along_normal
+    (along_normal, delta)
+}
+
+/// Normal gap `gN = (x_s − x_m)·n` (positive when apart).
+pub fn normal_gap<D: DualNum<Primitive = f64>>(g: &PointGeometry, z: &[D]) -> D {
+    gap_and_delta(g, z).0
 }
 
 /// Temperature jump `ϑc = θ_s − θ_m(η)` (4.1).
@@ -193,7 +200,11 @@ pub fn temperature_jump<D: DualNum<Primitive = f64>>(g: &PointGeometry, z: &[D])
     ths - m.theta
 }
 
-/// Value, gradient and Hessian (row-major `n × n`) of a kinematic quantity.
+/// Value, gradient and Hessian (row-major `n × n`) of a kinematic quantity
+/// with respect to the local unknowns `(ux, uy, θ)` per slave, then per
+/// master control point. An empty gradient or Hessian means "not asked for";
+/// an empty Hessian with a gradient means that it is zero in the unknowns
+/// of the phase.
 #[derive(Clone, Debug, Default)]
 pub struct Derivatives {
     /// Value.
@@ -204,73 +215,336 @@ pub struct Derivatives {
     pub hess: Vec<f64>,
 }
 
-/// Which kinematic quantity to differentiate.
+/// Which derivatives of gap and jump the current phase needs (spec §6).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Quantity {
-    /// The normal gap `gN`.
-    Gap,
-    /// The temperature jump `ϑc`.
-    Jump,
+pub enum Needs {
+    /// Values only.
+    Values,
+    /// Mechanical phase: the gap to second order in the displacements.
+    Mechanical,
+    /// Thermal phase on a frozen configuration: the jump to first order in
+    /// the temperatures (displacements are not unknowns; it is linear in
+    /// the temperatures, so its Hessian there is zero).
+    Thermal,
+    /// Monolithic coupling: gap and jump to second order in all unknowns.
+    Coupled,
 }
 
-fn evaluate<D: DualNum<Primitive = f64>>(g: &PointGeometry, z: &[D], q: Quantity) -> D {
-    match q {
-        Quantity::Gap => normal_gap(g, z),
-        Quantity::Jump => temperature_jump(g, z),
+impl Needs {
+    /// From whether the mechanical and the thermal contact terms are assembled.
+    pub fn from_terms(mechanical: bool, thermal: bool) -> Needs {
+        match (mechanical, thermal) {
+            (false, false) => Needs::Values,
+            (true, false) => Needs::Mechanical,
+            (false, true) => Needs::Thermal,
+            (true, true) => Needs::Coupled,
+        }
     }
 }
 
-fn pack(v: f64, grad: &[f64], hess_col_major: &[f64]) -> Derivatives {
-    // The Hessian is symmetric: column-major equals row-major.
-    Derivatives {
-        value: v,
-        grad: grad.to_vec(),
-        hess: hess_col_major.to_vec(),
-    }
+/// The rational master basis `R_j`, `R_j'`, `R_j''` of the span at `η0 + δ`.
+fn rational_basis(g: &PointGeometry, delta: f64) -> [Vec<f64>; 3] {
+    let p1 = g.master_ders.len();
+    let powers: Vec<f64> = (0..p1).map(|m| delta.powi(m as i32)).collect();
+    let nm = g.master_x.len();
+    let der = |k: usize, j: usize| {
+        if k < p1 {
+            taylor(&g.master_ders, k, j, &powers) * g.master_w[j]
+        } else {
+            0.0
+        }
+    };
+    let n: [Vec<f64>; 3] = std::array::from_fn(|k| (0..nm).map(|j| der(k, j)).collect());
+    let [w, dw, ddw] = n.each_ref().map(|v| v.iter().sum::<f64>());
+    let r: Vec<f64> = n[0].iter().map(|a| a / w).collect();
+    let dr: Vec<f64> = (0..nm).map(|j| (n[1][j] - r[j] * dw) / w).collect();
+    let ddr: Vec<f64> = (0..nm)
+        .map(|j| (n[2][j] - 2.0 * dr[j] * dw - r[j] * ddw) / w)
+        .collect();
+    [r, dr, ddr]
 }
 
-fn hessian_fixed<const N: usize>(g: &PointGeometry, z: &[f64], q: Quantity) -> Derivatives {
-    let zv = nalgebra::SVector::<f64, N>::from_column_slice(z);
-    let (v, gr, h) = num_dual::hessian(
-        |x: nalgebra::SVector<_, N>| evaluate(g, x.as_slice(), q),
-        &zv,
+/// Index of displacement component `k` (`2·node + c`) in the local unknowns.
+fn u_index(k: usize) -> usize {
+    3 * (k / 2) + k % 2
+}
+
+/// Gap and projection increment with first and second derivatives in the
+/// `2 (ns + nm)` displacements only (the temperatures enter neither), by one
+/// forward-mode pass; `N` fixes the size on the stack.
+fn displacement_hessian<const N: usize>(
+    g: &PointGeometry,
+    z: &[f64],
+) -> [(f64, Vec<f64>, Vec<f64>); 2] {
+    let u = nalgebra::SVector::<f64, N>::from_fn(|k, _| z[u_index(k)]);
+    let ((gv, gg, gh), (dv, dg, dh)) = num_dual::hessian(
+        |x: nalgebra::SVector<_, N>| {
+            let zd = local_duals(z, x.as_slice());
+            gap_and_delta(g, &zd)
+        },
+        &u,
     );
-    pack(v, gr.as_slice(), h.as_slice())
+    [
+        (gv, gg.as_slice().to_vec(), gh.as_slice().to_vec()),
+        (dv, dg.as_slice().to_vec(), dh.as_slice().to_vec()),
+    ]
 }
 
-fn hessian_dynamic(g: &PointGeometry, z: &[f64], q: Quantity) -> Derivatives {
-    let zv = nalgebra::DVector::from_column_slice(z);
-    let (v, gr, h) = num_dual::hessian(|x: nalgebra::DVector<_>| evaluate(g, x.as_slice(), q), &zv);
-    pack(v, gr.as_slice(), h.as_slice())
+fn displacement_hessian_dynamic(g: &PointGeometry, z: &[f64]) -> [(f64, Vec<f64>, Vec<f64>); 2] {
+    let n = 2 * z.len() / 3;
+    let u = nalgebra::DVector::<f64>::from_fn(n, |k, _| z[u_index(k)]);
+    let ((gv, gg, gh), (dv, dg, dh)) = num_dual::hessian(
+        |x: nalgebra::DVector<_>| {
+            let zd = local_duals(z, x.as_slice());
+            gap_and_delta(g, &zd)
+        },
+        &u,
+    );
+    [
+        (gv, gg.as_slice().to_vec(), gh.as_slice().to_vec()),
+        (dv, dg.as_slice().to_vec(), dh.as_slice().to_vec()),
+    ]
 }
 
-/// Value, exact gradient and Hessian of a kinematic quantity at the local
-/// state `z` (stack-allocated dual numbers for degrees 1–4).
-pub fn differentiate_one(g: &PointGeometry, z: &[f64], q: Quantity) -> Derivatives {
-    match z.len() {
-        12 => hessian_fixed::<12>(g, z, q),
-        18 => hessian_fixed::<18>(g, z, q),
-        24 => hessian_fixed::<24>(g, z, q),
-        30 => hessian_fixed::<30>(g, z, q),
-        _ => hessian_dynamic(g, z, q),
+/// The local unknowns as dual numbers: the displacements `u` (variables),
+/// the temperatures of `z` (constants).
+fn local_duals<D: DualNum<Primitive = f64>>(z: &[f64], u: &[D]) -> Vec<D> {
+    (0..z.len())
+        .map(|i| match i % 3 {
+            2 => D::from(z[i]),
+            c => u[2 * (i / 3) + c].clone(),
+        })
+        .collect()
+}
+
+/// Scatters a value, gradient and Hessian in the displacements into the
+/// layout of all local unknowns (zeros in the temperatures).
+fn scatter(n: usize, (v, grad, hess): &(f64, Vec<f64>, Vec<f64>)) -> Derivatives {
+    let m = grad.len();
+    let mut d = Derivatives {
+        value: *v,
+        grad: vec![0.0; n],
+        hess: vec![0.0; n * n],
+    };
+    for k in 0..m {
+        d.grad[u_index(k)] = grad[k];
+        for l in 0..m {
+            // Symmetric: column-major equals row-major.
+            d.hess[u_index(k) * n + u_index(l)] = hess[k * m + l];
+        }
+    }
+    d
+}
+
+/// Value, exact gradient and Hessian of gap and temperature jump at the
+/// local state `z`, as far as `needs` asks (the other entries hold values
+/// only), including the dependence of the projection point and the master
+/// normal on the displacements (spec §6).
+///
+/// One forward-mode pass over the displacements gives the gap and the
+/// projection increment `δ(u)` to second order (stack-allocated duals for
+/// degrees 1–4); the jump `ϑc = Σ N_a θ_a − Σ R_j(η) θ_j`, linear in the
+/// temperatures, then follows in closed form:
+/// `∂ϑc/∂u = −θm' ∂δ`, `∂²ϑc/∂u∂u = −θm'' ∂δ⊗∂δ − θm' ∂²δ`,
+/// `∂²ϑc/∂θ_j∂u = −R_j' ∂δ`.
+pub fn differentiate(g: &PointGeometry, z: &[f64], needs: Needs) -> (Derivatives, Derivatives) {
+    let n = z.len();
+    let ns = g.slave_x.len();
+    let values = |gap: f64, delta: f64| {
+        let [r, _, _] = rational_basis(g, delta);
+        let jump = jump_value(g, z, &r);
+        (gap, jump)
+    };
+    match needs {
+        Needs::Values => {
+            let (gap, delta) = gap_and_delta(g, z);
+            let (gap, jump) = values(gap, delta);
+            (value_only(gap), value_only(jump))
+        }
+        Needs::Thermal => {
+            let (gap, delta) = gap_and_delta(g, z);
+            let [r, _, _] = rational_basis(g, delta);
+            let mut grad = vec![0.0; n];
+            for (a, &na) in g.slave_basis.iter().enumerate() {
+                grad[3 * a + 2] = na;
+            }
+            for (j, rj) in r.iter().enumerate() {
+                grad[3 * (ns + j) + 2] = -rj;
+            }
+            let jump = Derivatives {
+                value: jump_value(g, z, &r),
+                grad,
+                hess: Vec::new(),
+            };
+            (value_only(gap), jump)
+        }
+        Needs::Mechanical if !g.clamped => {
+            let (gap, delta) = gap_and_delta(g, z);
+            let [r, dr, _] = rational_basis(g, delta);
+            let gap_d = gap_second_variation(g, z, gap, delta, &r, &dr);
+            (gap_d, value_only(jump_value(g, z, &r)))
+        }
+        Needs::Mechanical | Needs::Coupled => {
+            let [gap, delta] = match n {
+                12 => displacement_hessian::<8>(g, z),
+                18 => displacement_hessian::<12>(g, z),
+                24 => displacement_hessian::<16>(g, z),
+                30 => displacement_hessian::<20>(g, z),
+                _ => displacement_hessian_dynamic(g, z),
+            };
+            let gap_d = scatter(n, &gap);
+            if needs == Needs::Mechanical {
+                let [r, _, _] = rational_basis(g, delta.0);
+                return (gap_d, value_only(jump_value(g, z, &r)));
+            }
+            (gap_d, jump_derivatives(g, z, &delta))
+        }
     }
 }
 
-/// The value only (no derivatives; empty gradient and Hessian).
-pub fn value_only(g: &PointGeometry, z: &[f64], q: Quantity) -> Derivatives {
+/// The gap's first and second variations in closed form at a converged
+/// projection (the classical 2D result): with `t = x_m'`, `a = t·t`,
+/// `b = n·x_m''`, `D = a − gN b`, and per virtual displacement
+/// `A(δ) = (δx_s − Σ R_j δv_j)·t`, `C(δ) = n·Σ R_j' δv_j`,
+/// ```text
+/// δgN   = (δx_s − Σ R_j δv_j)·n
+/// ΔδgN  = −[ (b/a) A(δ)A(Δ) + C(δ)A(Δ) + A(δ)C(Δ) + gN C(δ)C(Δ) ] / D
+/// ```
+/// (`δη = (A(δ) + gN C(δ))/D`). At a corner (`η` fixed, the gap the signed
+/// distance `gN = ±|r|`, `m = r/gN`): `δgN = m·δr`,
+/// `ΔδgN = (δr·Δr − (m·δr)(m·Δr))/gN`. `r`, `dr` are the rational master
+/// basis and its derivative at the projection.
+fn gap_second_variation(
+    g: &PointGeometry,
+    z: &[f64],
+    gap: f64,
+    delta: f64,
+    r: &[f64],
+    dr: &[f64],
+) -> Derivatives {
+    let n = z.len();
+    let ns = g.slave_x.len();
+    let m = master_eval(g, z, &delta);
+    let (xs, _) = slave_point(g, z);
+    // Displacement dof index of node `k`, component `c`, and the weight of
+    // its virtual displacement in x_s − x_m.
+    let weight = |k: usize| {
+        if k < ns { g.slave_basis[k] } else { -r[k - ns] }
+    };
+    let nodes = ns + g.master_x.len();
+    let mut d = Derivatives {
+        value: gap,
+        grad: vec![0.0; n],
+        hess: vec![0.0; n * n],
+    };
+    if g.vertex {
+        let rv = [xs[0] - m.x[0], xs[1] - m.x[1]];
+        let normal = [rv[0] / gap, rv[1] / gap];
+        for k in 0..nodes {
+            for c in 0..2 {
+                d.grad[3 * k + c] = weight(k) * normal[c];
+            }
+        }
+        // (δr·Δr − (m·δr)(m·Δr))/gN, δr = Σ weight δu.
+        for k in 0..nodes {
+            for l in 0..nodes {
+                let w = weight(k) * weight(l) / gap;
+                for c in 0..2 {
+                    for e in 0..2 {
+                        let id = if c == e { 1.0 } else { 0.0 };
+                        d.hess[(3 * k + c) * n + 3 * l + e] = w * (id - normal[c] * normal[e]);
+                    }
+                }
+            }
+        }
+        return d;
+    }
+    let t = m.dx;
+    let a = t[0] * t[0] + t[1] * t[1];
+    let len = a.sqrt();
+    let normal = [-t[1] * g.normal_sign / len, t[0] * g.normal_sign / len];
+    let b = normal[0] * m.ddx[0] + normal[1] * m.ddx[1];
+    let denom = a - gap * b;
+    // A and C per displacement dof.
+    let mut av = vec![0.0; n];
+    let mut cv = vec![0.0; n];
+    for k in 0..nodes {
+        for c in 0..2 {
+            let i = 3 * k + c;
+            d.grad[i] = weight(k) * normal[c];
+            av[i] = weight(k) * t[c];
+            if k >= ns {
+                cv[i] = dr[k - ns] * normal[c];
+            }
+        }
+    }
+    for i in (0..n).filter(|i| i % 3 != 2) {
+        for j in (0..n).filter(|j| j % 3 != 2) {
+            d.hess[i * n + j] =
+                -(b / a * av[i] * av[j] + cv[i] * av[j] + av[i] * cv[j] + gap * cv[i] * cv[j])
+                    / denom;
+        }
+    }
+    d
+}
+
+fn value_only(value: f64) -> Derivatives {
     Derivatives {
-        value: evaluate(g, z, q),
+        value,
         grad: Vec::new(),
         hess: Vec::new(),
     }
 }
 
-/// Gap and jump with exact first and second derivatives at the local state `z`.
-pub fn differentiate(g: &PointGeometry, z: &[f64]) -> (Derivatives, Derivatives) {
-    (
-        differentiate_one(g, z, Quantity::Gap),
-        differentiate_one(g, z, Quantity::Jump),
-    )
+/// `ϑc = Σ N_a θ_a − Σ R_j θ_j` with the rational master basis `r`.
+fn jump_value(g: &PointGeometry, z: &[f64], r: &[f64]) -> f64 {
+    let ns = g.slave_x.len();
+    let slave: f64 = (0..ns).map(|a| g.slave_basis[a] * z[3 * a + 2]).sum();
+    let master: f64 = r
+        .iter()
+        .enumerate()
+        .map(|(j, rj)| rj * z[3 * (ns + j) + 2])
+        .sum();
+    slave - master
+}
+
+/// The jump's derivatives in all local unknowns from those of `δ(u)`.
+fn jump_derivatives(
+    g: &PointGeometry,
+    z: &[f64],
+    (delta, dd, ddd): &(f64, Vec<f64>, Vec<f64>),
+) -> Derivatives {
+    let n = z.len();
+    let ns = g.slave_x.len();
+    let [r, dr, ddr] = rational_basis(g, *delta);
+    let theta = |j: usize| z[3 * (ns + j) + 2];
+    let dtheta: f64 = dr.iter().enumerate().map(|(j, v)| v * theta(j)).sum();
+    let ddtheta: f64 = ddr.iter().enumerate().map(|(j, v)| v * theta(j)).sum();
+    let m = dd.len();
+    let mut d = Derivatives {
+        value: jump_value(g, z, &r),
+        grad: vec![0.0; n],
+        hess: vec![0.0; n * n],
+    };
+    for (a, &na) in g.slave_basis.iter().enumerate() {
+        d.grad[3 * a + 2] = na;
+    }
+    for (j, rj) in r.iter().enumerate() {
+        d.grad[3 * (ns + j) + 2] = -rj;
+    }
+    for k in 0..m {
+        let ik = u_index(k);
+        d.grad[ik] = -dtheta * dd[k];
+        for l in 0..m {
+            d.hess[ik * n + u_index(l)] = -ddtheta * dd[k] * dd[l] - dtheta * ddd[k * m + l];
+        }
+        for (j, drj) in dr.iter().enumerate() {
+            let it = 3 * (ns + j) + 2;
+            d.hess[ik * n + it] = -drj * dd[k];
+            d.hess[it * n + ik] = -drj * dd[k];
+        }
+    }
+    d
 }
 
 #[cfg(test)]
@@ -314,26 +588,79 @@ mod tests {
         g.master_ders = basis_ders(&kv, kv.find_span(eta), eta, 2);
     }
 
+    /// Gap or jump with first and second derivatives in *all* local
+    /// unknowns by plain forward-mode AD (the reference of the split pass).
+    fn full_ad(g: &PointGeometry, z: &[f64], gap: bool) -> Derivatives {
+        let zv = nalgebra::DVector::from_column_slice(z);
+        let (v, gr, h) = num_dual::hessian(
+            |x: nalgebra::DVector<_>| {
+                if gap {
+                    normal_gap(g, x.as_slice())
+                } else {
+                    temperature_jump(g, x.as_slice())
+                }
+            },
+            &zv,
+        );
+        Derivatives {
+            value: v,
+            grad: gr.as_slice().to_vec(),
+            hess: h.as_slice().to_vec(),
+        }
+    }
+
+    fn assert_close(a: &[f64], b: &[f64], tol: f64) {
+        assert_eq!(a.len(), b.len());
+        for (i, (x, y)) in a.iter().zip(b).enumerate() {
+            assert!((x - y).abs() <= tol * (1.0 + x.abs()), "{i}: {x} vs {y}");
+        }
+    }
+
+    #[test]
+    fn split_pass_equals_full_ad_in_every_phase() {
+        for (clamped, vertex) in [(false, false), (true, false), (false, true)] {
+            let (mut g, z) = geometry(0.5);
+            converge(&mut g, &z);
+            (g.clamped, g.vertex) = (clamped, vertex);
+            let (rg, rj) = (full_ad(&g, &z, true), full_ad(&g, &z, false));
+            let (gap, jump) = differentiate(&g, &z, Needs::Coupled);
+            assert_eq!(gap.value, rg.value);
+            assert!((jump.value - rj.value).abs() < 1e-15);
+            assert_close(&gap.grad, &rg.grad, 1e-14);
+            assert_close(&gap.hess, &rg.hess, 1e-13);
+            assert_close(&jump.grad, &rj.grad, 1e-14);
+            assert_close(&jump.hess, &rj.hess, 1e-13);
+            // The closed-form second variation of the mechanical phase.
+            let (gm, jm) = differentiate(&g, &z, Needs::Mechanical);
+            assert_eq!(gm.value, gap.value);
+            assert_close(&gm.grad, &rg.grad, 1e-13);
+            assert_close(&gm.hess, &rg.hess, 1e-12);
+            assert!(jm.grad.is_empty() && jm.value == jump.value);
+            // The thermal phase: the temperature entries of the gradient.
+            let (gt, jt) = differentiate(&g, &z, Needs::Thermal);
+            assert!(gt.grad.is_empty() && gt.value == gap.value && jt.hess.is_empty());
+            for (i, (x, y)) in jt.grad.iter().zip(&rj.grad).enumerate() {
+                if i % 3 == 2 {
+                    assert!((x - y).abs() < 1e-15, "{i}: {x} vs {y}");
+                } else {
+                    assert_eq!(*x, 0.0);
+                }
+            }
+            let (gv, jv) = differentiate(&g, &z, Needs::Values);
+            assert_eq!((gv.value, jv.value), (gap.value, jump.value));
+        }
+    }
+
     #[test]
     fn fixed_and_dynamic_sizes_agree() {
         let (mut g, z) = geometry(0.5);
         converge(&mut g, &z);
-        for q in [Quantity::Gap, Quantity::Jump] {
-            let a = hessian_fixed::<18>(&g, &z, q);
-            let b = hessian_dynamic(&g, &z, q);
-            assert_eq!(a.value, b.value);
-            assert!(
-                a.grad
-                    .iter()
-                    .zip(&b.grad)
-                    .all(|(x, y)| (x - y).abs() <= 1e-15 * (1.0 + x.abs()))
-            );
-            assert!(
-                a.hess
-                    .iter()
-                    .zip(&b.hess)
-                    .all(|(x, y)| (x - y).abs() <= 1e-14 * (1.0 + x.abs()))
-            );
+        let a = displacement_hessian::<12>(&g, &z);
+        let b = displacement_hessian_dynamic(&g, &z);
+        for (x, y) in a.iter().zip(&b) {
+            assert_eq!(x.0, y.0);
+            assert_close(&x.1, &y.1, 1e-15);
+            assert_close(&x.2, &y.2, 1e-14);
         }
     }
 
@@ -341,7 +668,7 @@ mod tests {
     fn gap_derivatives_match_finite_differences() {
         let (mut g, z) = geometry(0.5);
         converge(&mut g, &z);
-        let (gap, jump) = differentiate(&g, &z);
+        let (gap, jump) = differentiate(&g, &z, Needs::Coupled);
         let n = z.len();
         let h = 1e-6;
         for d in [&gap, &jump] {
@@ -371,9 +698,15 @@ mod tests {
                 let mut gm = g.clone();
                 converge(&mut gm, &zm);
                 let (a, b) = if std::ptr::eq(d, &gap) {
-                    (differentiate(&gp, &zp).0, differentiate(&gm, &zm).0)
+                    (
+                        differentiate(&gp, &zp, Needs::Coupled).0,
+                        differentiate(&gm, &zm, Needs::Coupled).0,
+                    )
                 } else {
-                    (differentiate(&gp, &zp).1, differentiate(&gm, &zm).1)
+                    (
+                        differentiate(&gp, &zp, Needs::Coupled).1,
+                        differentiate(&gm, &zm, Needs::Coupled).1,
+                    )
                 };
                 for j in 0..n {
                     let fd2 = (a.grad[j] - b.grad[j]) / (2.0 * h);

@@ -22,9 +22,7 @@
 use std::collections::BTreeSet;
 
 use crate::basis::bspline::basis_ders;
-use crate::contact::kinematics::{
-    Derivatives, PointGeometry, Quantity, differentiate_one, value_only,
-};
+use crate::contact::kinematics::{Derivatives, Needs, PointGeometry, differentiate};
 use crate::contact::projection::{MasterSamples, Projection, project, project_on_span};
 use crate::contact::segments::{Breakpoint, Segmenter};
 use crate::contact::{
@@ -339,7 +337,8 @@ impl ContactInterface {
                 continue;
             };
             let sides = [pl, pr].map(|p| {
-                let st = self.point_state(state, (&basis.values, &basis.indices), p, (true, false));
+                let st =
+                    self.point_state(state, (&basis.values, &basis.indices), p, Needs::Mechanical);
                 let mut dofs = Vec::new();
                 for n in basis
                     .indices
@@ -395,9 +394,9 @@ impl ContactInterface {
     }
 
     /// Projects every integration point in the current configuration and
-    /// evaluates gap and jump, differentiated where `derivatives` = (gap, jump)
-    /// asks. `state` holds `dim + 1 = 3` components per node.
-    pub fn prepare(&mut self, state: &[f64], derivatives: (bool, bool)) -> Result<()> {
+    /// evaluates gap and jump, differentiated as far as the phase `needs`.
+    /// `state` holds `dim + 1 = 3` components per node.
+    pub fn prepare(&mut self, state: &[f64], needs: Needs) -> Result<()> {
         let nf = 3;
         let cur = |nodes: &[usize], refx: &[[f64; 3]]| -> Vec<[f64; 3]> {
             nodes
@@ -434,10 +433,10 @@ impl ContactInterface {
             }
             let guess = previous.get(i).map(|s| s.projection.eta);
             let pr = project(&curve, xs, guess, self.period, &samples)?;
-            out.push(self.point_state(state, (&sp.basis, &sp.conn), pr, derivatives));
+            out.push(self.point_state(state, (&sp.basis, &sp.conn), pr, needs));
         }
         self.state = out;
-        self.break_terms = if derivatives.0 {
+        self.break_terms = if matches!(needs, Needs::Mechanical | Needs::Coupled) {
             self.break_terms(state, &curve)
         } else {
             Vec::new()
@@ -446,13 +445,13 @@ impl ContactInterface {
     }
 
     /// Gap and jump at a slave point (basis values and face nodes) whose
-    /// projection is `pr`, differentiated as `derivatives` = (gap, jump) asks.
+    /// projection is `pr`, differentiated as far as `needs`.
     fn point_state(
         &self,
         state: &[f64],
         (basis, conn): (&[f64], &[usize]),
         pr: Projection,
-        derivatives: (bool, bool),
+        needs: Needs,
     ) -> PointState {
         let kv = &self.master_face.knots()[0];
         let p = kv.degree();
@@ -484,16 +483,10 @@ impl ContactInterface {
         {
             z.extend_from_slice(&state[n * 3..n * 3 + 3]);
         }
-        let eval = |want: bool, q: Quantity| {
-            if want {
-                differentiate_one(&geo, &z, q)
-            } else {
-                value_only(&geo, &z, q)
-            }
-        };
+        let (gap, jump) = differentiate(&geo, &z, needs);
         PointState {
-            gap: eval(derivatives.0, Quantity::Gap),
-            jump: eval(derivatives.1, Quantity::Jump),
+            gap,
+            jump,
             master,
             projection: pr,
         }
@@ -701,7 +694,8 @@ impl ContactInterface {
                 for (a, ia) in map.iter().enumerate() {
                     let Some(ia) = *ia else { continue };
                     gv[ia] += w * d.grad[a];
-                    if want_h {
+                    // An empty Hessian is zero in the unknowns of the phase.
+                    if want_h && !d.hess.is_empty() {
                         for (b, ib) in map.iter().enumerate() {
                             let Some(ib) = *ib else { continue };
                             hv[ia * nd + ib] += w * d.hess[a * m + b];
@@ -902,6 +896,8 @@ impl ContactInterface {
         };
         let m = map.len();
         let h0 = -c * st.jump.value;
+        // An empty Hessian is zero in the unknowns of the phase.
+        let hess = |a: usize, b: usize| st.jump.hess.get(a * m + b).copied().unwrap_or(0.0);
         for (a, ia) in map.iter().enumerate() {
             let Some(ia) = *ia else { continue };
             r[ia] -= sp.weight * h0 * st.jump.grad[a];
@@ -910,8 +906,7 @@ impl ContactInterface {
                 add_k(
                     ia,
                     ib,
-                    sp.weight
-                        * (c * st.jump.grad[a] * st.jump.grad[b] - h0 * st.jump.hess[a * m + b]),
+                    sp.weight * (c * st.jump.grad[a] * st.jump.grad[b] - h0 * hess(a, b)),
                 );
             }
         }

@@ -14,6 +14,7 @@ use nalgebra::Vector3;
 
 use crate::bulk::global::Assembly;
 use crate::bulk::local::{Coupling, ElementFields, element_residual_tangent};
+use crate::contact::kinematics::Needs;
 use crate::contact::{ContactInterface, ContactSettings, Unknowns};
 use crate::geometry::{ElementQuadrature, NurbsPatch, Side};
 use crate::material::Material;
@@ -587,7 +588,7 @@ impl Model {
         if coupling == Coupling::Thermal
             && let Some(c) = self.contact.as_mut()
         {
-            c.prepare(&self.state, (false, false))?;
+            c.prepare(&self.state, Needs::Values)?;
             c.freeze();
         }
         if coupling != Coupling::Thermal
@@ -633,7 +634,7 @@ impl Model {
         // until the smallest weighted gap is zero to round-off.
         let mut imin = 0;
         for _ in 0..20 {
-            c.prepare(&self.state, (false, false))?;
+            c.prepare(&self.state, Needs::Values)?;
             let (i, gmin) = (0..c.n_slave())
                 .map(|i| (i, c.weighted_gap(i)))
                 .fold((0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
@@ -646,7 +647,7 @@ impl Model {
             }
         }
         self.initial = self.state.clone();
-        c.prepare(&self.state, (false, false))?;
+        c.prepare(&self.state, Needs::Values)?;
         // Seed every point that touches (conforming surfaces touch everywhere).
         for i in 0..c.n_slave() {
             let g = c.weighted_gap(i);
@@ -965,7 +966,7 @@ impl NonlinearProblem for Model {
     fn prepare(&mut self) -> Result<()> {
         let needs = self
             .contact_unknowns()
-            .map(|u| (u.mechanical_terms, u.thermal_terms));
+            .map(|u| Needs::from_terms(u.mechanical_terms, u.thermal_terms));
         if let (Some(c), Some(needs)) = (self.contact.as_mut(), needs) {
             c.prepare(&self.state, needs)?;
             if c.update_band() {

@@ -138,14 +138,33 @@ impl SolveHistory {
     }
 }
 
-/// Newton's method with a kept linear solver (symbolic analysis reused while
-/// the pattern does not change).
+/// Newton's method with kept linear solvers: the symbolic analysis of a
+/// pattern is reused while it does not change, and when it comes back (the
+/// phases of the two-phase framework alternate between two patterns). A
+/// `Newton` serves one problem, whose pattern determines the factorization
+/// kind; use a new one for another problem.
 pub struct Newton {
     /// Iteration settings.
     pub settings: NewtonSettings,
     /// Load stepping settings.
     pub stepping: LoadStepping,
-    solver: Option<(u64, LinearSolver)>,
+    /// The problem's pattern version the front solver was checked against.
+    version: Option<u64>,
+    /// Solvers by pattern fingerprint, most recently used first.
+    solvers: Vec<(u64, LinearSolver)>,
+}
+
+/// How many analysed patterns a [`Newton`] keeps.
+const KEPT_SOLVERS: usize = 4;
+
+/// A fingerprint of a sparsity pattern (dimensions, column pointers, row indices).
+fn pattern_fingerprint(pattern: faer::sparse::SymbolicSparseColMatRef<'_, usize>) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    (pattern.nrows(), pattern.ncols()).hash(&mut h);
+    pattern.col_ptr().hash(&mut h);
+    pattern.row_idx().hash(&mut h);
+    h.finish()
 }
 
 impl Newton {
@@ -154,7 +173,8 @@ impl Newton {
         Newton {
             settings,
             stepping,
-            solver: None,
+            version: None,
+            solvers: Vec::new(),
         }
     }
 
@@ -187,9 +207,23 @@ impl Newton {
         for it in 0..=self.settings.max_iterations {
             p.prepare()?;
             let version = p.pattern_version();
-            if self.solver.as_ref().is_none_or(|(v, _)| *v != version) {
-                let (kind, ordering) = p.factorization();
-                self.solver = Some((version, LinearSolver::new(p.pattern(), kind, ordering)?));
+            if self.version != Some(version) {
+                // For one problem the pattern determines the factorization
+                // kind (the coupling and the multipliers set both).
+                let key = pattern_fingerprint(p.pattern());
+                match self.solvers.iter().position(|(k, _)| *k == key) {
+                    Some(i) => {
+                        let kept = self.solvers.remove(i);
+                        self.solvers.insert(0, kept);
+                    }
+                    None => {
+                        let (kind, ordering) = p.factorization();
+                        let solver = LinearSolver::new(p.pattern(), kind, ordering)?;
+                        self.solvers.insert(0, (key, solver));
+                        self.solvers.truncate(KEPT_SOLVERS);
+                    }
+                }
+                self.version = Some(version);
             }
             let nnz = p.pattern().row_idx().len();
             let mut values = vec![0.0; nnz];
@@ -230,7 +264,7 @@ impl Newton {
                     format!("residual grew to {total:.3e} from {total_ref:.3e}"),
                 ));
             }
-            let solver = &mut self.solver.as_mut().expect("solver set above").1;
+            let solver = &mut self.solvers[0].1;
             solver
                 .factorize(&values)
                 .map_err(|e| fail(it, e.to_string()))?;
