@@ -32,6 +32,26 @@ use hertz::{HertzSetup, ThermalModel};
 use patch::{Interface, PatchSetup, continuum_penalty, mortar_al, thermal_patch};
 use wavy::{WESTERGAARD_LEVELS, WavySample};
 
+/// Table I with a constant conductivity: the material of the small-strain
+/// benchmarks (Hertz, Westergaard), both bodies.
+pub fn benchmark_material() -> crate::material::Material {
+    crate::material::Material {
+        conductivity_slope: 0.0,
+        ..crate::material::Material::default()
+    }
+}
+
+/// `E*` of two equal plane-strain bodies of [`benchmark_material`].
+pub fn benchmark_e_star() -> f64 {
+    let m = benchmark_material();
+    crate::analytical::westergaard::effective_modulus(
+        m.youngs_modulus,
+        m.poisson_ratio,
+        m.youngs_modulus,
+        m.poisson_ratio,
+    )
+}
+
 /// Flux of the thermal patch tests (W/m²): a 10 K rise over the 10 μm block.
 pub const PATCH_FLUX: f64 = 1.0e6;
 

@@ -34,7 +34,7 @@
 //! strains `~a/R`.
 
 use crate::Result;
-use crate::analytical::{hertz, westergaard};
+use crate::analytical::hertz;
 use crate::bulk::Coupling;
 use crate::contact::{ContactSettings, ThermalContact, ThermalEnforcement, ThermalMethod};
 use crate::geometry::{KnotVector, NurbsPatch, Side, shapes};
@@ -116,21 +116,12 @@ impl HertzSetup {
 
     /// Table I with a constant conductivity.
     pub fn material() -> Material {
-        Material {
-            conductivity_slope: 0.0,
-            ..Material::default()
-        }
+        super::benchmark_material()
     }
 
     /// `E*` of the two (equal, plane-strain) bodies.
     pub fn e_star(&self) -> f64 {
-        let m = Self::material();
-        westergaard::effective_modulus(
-            m.youngs_modulus,
-            m.poisson_ratio,
-            m.youngs_modulus,
-            m.poisson_ratio,
-        )
+        super::benchmark_e_star()
     }
 
     /// Reduced radius `R/2`.

@@ -141,21 +141,12 @@ pub struct WavyPoint {
 impl WavySample {
     /// Table I with a constant conductivity.
     pub fn material() -> Material {
-        Material {
-            conductivity_slope: 0.0,
-            ..Material::default()
-        }
+        super::benchmark_material()
     }
 
     /// `E*` of the two (equal, plane-strain) bodies.
     pub fn e_star(&self) -> f64 {
-        let m = Self::material();
-        westergaard::effective_modulus(
-            m.youngs_modulus,
-            m.poisson_ratio,
-            m.youngs_modulus,
-            m.poisson_ratio,
-        )
+        super::benchmark_e_star()
     }
 
     /// Full-contact pressure `p* = π E* A/λ`.
