@@ -109,8 +109,11 @@ fn residual_tangent<const D: usize>(
     };
     let has_u = coupling != Coupling::Thermal;
     let has_t = coupling != Coupling::Mechanical;
-    let mut ga: Vec<[[f64; D]; D]> = Vec::with_capacity(ncp * D);
-    let mut gth: Vec<f64> = Vec::with_capacity(ncp * D);
+    // Per quadrature point, columns of the tangent's factors (rows of the
+    // element block; zero in the rows of other fields).
+    let with_k = k.is_some();
+    let mut gcols = vec![0.0; if with_k && has_u { D * D * n } else { 0 }];
+    let mut gth = vec![0.0; if with_k && has_u && has_t { n } else { 0 }];
     // The mechanical tangent is symmetric (hyperelastic, `∂P/∂F` has major
     // symmetry): assemble the blocks above the diagonal and mirror them.
     let symmetric = coupling == Coupling::Mechanical;
@@ -147,55 +150,49 @@ fn residual_tangent<const D: usize>(
                 }
             }
             if let Some(k) = k.as_deref_mut() {
-                // ga[a][i][kk][l] = Σ_J N_a,J ∂P_iJ/∂F_kL; then column
-                // (b, kk) gets Σ_L ga[a][i][kk][L] N_b,L in rows (a, i),
-                // which are contiguous in the column-major block.
-                ga.clear();
-                gth.clear();
+                // gcols[kk][l] = Σ_J N_a,J ∂P_iJ/∂F_kL in rows (a, i) of the
+                // block; column (b, kk) gets Σ_L N_b,L gcols[kk][L], a
+                // contiguous update (the thermal rows of gcols stay zero).
                 for a in 0..ncp {
                     for i in 0..D {
-                        let mut g = [[0.0; D]; D];
-                        for (kk, gk) in g.iter_mut().enumerate() {
-                            for (l, gkl) in gk.iter_mut().enumerate() {
+                        let row = a * nf + i;
+                        for kk in 0..D {
+                            for l in 0..D {
                                 let mut s = 0.0;
                                 for j in 0..D {
                                     s += dn[a][j] * st.dp_df[(3 * i + j, 3 * kk + l)];
                                 }
-                                *gkl = s;
+                                gcols[(kk * D + l) * n + row] = s;
                             }
                         }
-                        ga.push(g);
                         if has_t {
                             let mut s = 0.0;
                             for j in 0..D {
                                 s += dn[a][j] * st.dp_dtheta[(i, j)];
                             }
-                            gth.push(s);
+                            gth[row] = s;
                         }
                     }
                 }
                 for bb in 0..ncp {
                     // Symmetric: the blocks a ≤ b only (mirrored below).
-                    let rows = if symmetric { bb + 1 } else { ncp };
+                    let rows = if symmetric { (bb + 1) * nf } else { n };
                     for kk in 0..D {
-                        let col = &mut k[n * (bb * nf + kk)..n * (bb * nf + kk + 1)];
-                        for a in 0..rows {
-                            for i in 0..D {
-                                let g = &ga[a * D + i][kk];
-                                let mut s = 0.0;
-                                for l in 0..D {
-                                    s += g[l] * dn[bb][l];
-                                }
-                                col[a * nf + i] += w * s;
+                        let c0 = n * (bb * nf + kk);
+                        let col = &mut k[c0..c0 + rows];
+                        for l in 0..D {
+                            let c = w * dn[bb][l];
+                            let g = &gcols[(kk * D + l) * n..(kk * D + l) * n + rows];
+                            for (x, y) in col.iter_mut().zip(g) {
+                                *x += c * y;
                             }
                         }
                     }
                     if has_t {
-                        let col = &mut k[n * (bb * nf + t_off)..n * (bb * nf + t_off + 1)];
-                        for a in 0..ncp {
-                            for i in 0..D {
-                                col[a * nf + i] += w * gth[a * D + i] * nn[bb];
-                            }
+                        let c0 = n * (bb * nf + t_off);
+                        let c = w * nn[bb];
+                        for (x, y) in k[c0..c0 + n].iter_mut().zip(&gth) {
+                            *x += c * y;
                         }
                     }
                 }
