@@ -139,7 +139,7 @@ fn residual_tangent<const D: usize>(
             None => (Vector3::zeros(), 0.0),
         };
         if has_u {
-            let st = material.stress_tangent(&f, theta);
+            let st = material.stress_tangent_in(&f, theta, D);
             for a in 0..ncp {
                 for i in 0..D {
                     let mut v = 0.0;

@@ -110,6 +110,13 @@ impl Material {
 
     /// `P`, `∂P/∂F` and `∂P/∂θ` (see the module documentation for the formulas).
     pub fn stress_tangent(&self, f: &Matrix3<f64>, theta: f64) -> StressTangent {
+        self.stress_tangent_in(f, theta, 3)
+    }
+
+    /// [`Material::stress_tangent`] with `∂P_iJ/∂F_kL` only for indices
+    /// below `dim` (the in-plane block in 2D, plane strain; the other
+    /// entries are left zero).
+    pub fn stress_tangent_in(&self, f: &Matrix3<f64>, theta: f64, dim: usize) -> StressTangent {
         let k = kinematics(f);
         let (a, s) = self.stress_factors(&k, theta);
         let kappa = self.bulk_modulus();
@@ -123,12 +130,12 @@ impl Material {
         let c_gg = 2.0 / 9.0 * a * k.i1 + kappa - thermal * (k.ln_j - 2.0) / k.j; // G⊗G
         let c_gt = a * k.i1 / 3.0 - s; // G_iL G_kJ
         let mut dp_df = SMatrix::<f64, 9, 9>::zeros();
-        for i in 0..3 {
-            for jj in 0..3 {
+        for i in 0..dim {
+            for jj in 0..dim {
                 let row = flat_index(i, jj);
                 let (f_ij, g_ij) = (f[(i, jj)], g[(i, jj)]);
-                for kk in 0..3 {
-                    for l in 0..3 {
+                for kk in 0..dim {
+                    for l in 0..dim {
                         let col = flat_index(kk, l);
                         if col < row {
                             continue;
@@ -166,6 +173,20 @@ impl Material {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The in-plane tangent equals the full one in its block.
+    #[test]
+    fn in_plane_tangent_is_the_block_of_the_full_one() {
+        let m = Material::default().scaled(1.0e6, 293.15, 1.0);
+        let f = Matrix3::new(1.1, 0.2, 0.0, -0.05, 0.93, 0.0, 0.0, 0.0, 1.0);
+        let (full, plane) = (m.stress_tangent(&f, 1.02), m.stress_tangent_in(&f, 1.02, 2));
+        assert_eq!(full.p, plane.p);
+        assert_eq!(full.dp_dtheta, plane.dp_dtheta);
+        for (i, j, k, l) in (0..16).map(|n| (n / 8, (n / 4) % 2, (n / 2) % 2, n % 2)) {
+            let (r, c) = (flat_index(i, j), flat_index(k, l));
+            assert_eq!(full.dp_df[(r, c)], plane.dp_df[(r, c)]);
+        }
+    }
     use crate::material::test_support::*;
     use nalgebra::{Rotation3, Vector3};
     use proptest::prelude::*;
