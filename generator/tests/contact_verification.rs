@@ -8,7 +8,7 @@
 //! (raw within 2 %, and Richardson extrapolation), the Sect. 5.7 path on the full meshes of
 //! `tables/sinusoid_on_flat.toml` for p = 1, 2, 3 with LN and PR sides, the
 //! quadrature study of the non-nested patch tests); they run only with
-//! `TCGEN_LONG_TESTS=1` (about 10 minutes) and return early otherwise.
+//! `TCGEN_LONG_TESTS=1` (about 2 minutes on 2 cores) and return early otherwise.
 
 use tcgen::sample::case::LateralCondition;
 use tcgen::verify::contact::hertz::HertzSetup;
