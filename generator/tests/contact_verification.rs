@@ -2,7 +2,7 @@
 //! Sects. 5.1, 5.2, 5.7): every test runs the case function that
 //! `tcgen verify` prints and asserts that each of its checks passes.
 //!
-//! The default tests use the catalogue's meshes (about 40 s in release on
+//! The default tests use the catalogue's meshes (about 5 s in release on
 //! 2 cores). The tests named `long_*` refine them (Hertz with p = 2 and 3 on
 //! coarse and fine meshes, Westergaard and the strips on 128 and 256 elements
 //! (raw within 2 %, and Richardson extrapolation), the Sect. 5.7 path on the full meshes of
