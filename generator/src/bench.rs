@@ -1,4 +1,5 @@
-//! Performance figures printed by `tcgen bench`: sparse assembly and direct solvers on 2D,
+//! Performance figures printed by `tcgen bench`: the micro-sample path of the paper's Sect. 5.7
+//! ([`micro_sample_bench`]), and sparse assembly and direct solvers on 2D,
 //! p = 2 tensor-product control-point grids.
 //!
 //! A grid has `nx × ny` control points (`ny = nx / 2`) on `[0, 2] × [0, 1]`, open p = 2
@@ -612,4 +613,169 @@ pub fn synthetic_kernel(element: &BenchElement, k: &mut [f64], r: &mut [f64]) ->
         }
     }
     Ok(())
+}
+
+/// The micro-sample path benchmark (`tcgen bench --micro`): the Sect. 5.7
+/// sinusoid on a flat of `tables/sinusoid_on_flat.toml` (p = 2, meshes
+/// 32 × 16 / 27 × 14, PR, two-phase self-consistent) along `pressures`
+/// log-spaced pressures from 100 Pa to 0.35 MPa.
+#[derive(Debug, Clone)]
+pub struct MicroBench {
+    /// Wall time of the whole path (s).
+    pub wall_s: f64,
+    /// Newton iterations per pressure (all phases).
+    pub newton_iterations: Vec<usize>,
+    /// Self-consistency iterations per pressure.
+    pub self_consistency_iterations: Vec<usize>,
+    /// Per phase (mechanical, thermal) at the last pressure: the parts of
+    /// one Newton iteration (s, best of three).
+    pub iteration: [IterationCost; 2],
+}
+
+/// The parts of one Newton iteration (s).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct IterationCost {
+    /// Contact projection and kinematics with their derivatives (`prepare`).
+    pub contact_kinematics_s: f64,
+    /// Assembly of residual and tangent (bulk and contact elements).
+    pub assembly_s: f64,
+    /// Numeric factorization and solve.
+    pub factorize_solve_s: f64,
+    /// Symbolic analysis of the pattern (once per pattern).
+    pub symbolic_s: f64,
+    /// Unknowns.
+    pub n_eq: usize,
+}
+
+impl IterationCost {
+    /// The named parts (s).
+    pub fn parts(&self) -> [(&'static str, f64); 4] {
+        [
+            (
+                "contact kinematics (projection, derivatives)",
+                self.contact_kinematics_s,
+            ),
+            ("assembly (bulk and contact elements)", self.assembly_s),
+            ("factorization and solve", self.factorize_solve_s),
+            ("symbolic analysis (once per pattern)", self.symbolic_s),
+        ]
+    }
+}
+
+/// Runs the micro-sample path benchmark.
+pub fn micro_sample_bench(pressures: usize) -> Result<MicroBench> {
+    use crate::bulk::Coupling;
+    use crate::homogenize::path::PathSolver;
+    use crate::solve::NonlinearProblem;
+    if pressures < 2 {
+        return Err(Error::invalid("bench.pressures", pressures, "at least 2"));
+    }
+    let case = crate::sample::Case::from_toml(
+        include_str!("../../tables/sinusoid_on_flat.toml"),
+        std::path::Path::new("."),
+    )?;
+    let (lo, hi): (f64, f64) = (1.0e2, 3.5e5);
+    let path: Vec<f64> = (0..pressures)
+        .map(|i| lo * (hi / lo).powf(i as f64 / (pressures - 1) as f64))
+        .collect();
+    let t = Instant::now();
+    let mut solver = PathSolver::new(&case)?;
+    let (mut newton, mut sc) = (Vec::new(), Vec::new());
+    for &p in &path {
+        let r = solver.solve_pressure(p)?;
+        newton.push(r.newton_iterations);
+        sc.push(r.self_consistency_iterations);
+    }
+    let wall_s = t.elapsed().as_secs_f64();
+    let model = &mut solver.model;
+    let best = |f: &mut dyn FnMut() -> Result<()>| -> Result<f64> {
+        let mut b = f64::INFINITY;
+        for _ in 0..3 {
+            let t = Instant::now();
+            f()?;
+            b = b.min(t.elapsed().as_secs_f64());
+        }
+        Ok(b)
+    };
+    let mut iteration = [IterationCost::default(); 2];
+    for (slot, coupling) in [Coupling::Mechanical, Coupling::Thermal]
+        .into_iter()
+        .enumerate()
+    {
+        model.set_coupling(coupling)?;
+        let contact_kinematics_s = best(&mut || model.prepare())?;
+        let n = model.n_eq();
+        let nnz = model.pattern().row_idx().len();
+        let (mut values, mut r) = (vec![0.0; nnz], vec![0.0; n]);
+        let assembly_s = best(&mut || {
+            values.iter_mut().for_each(|v| *v = 0.0);
+            model.assemble(Some(&mut values), &mut r)
+        })?;
+        let t = Instant::now();
+        let (kind, ordering) = model.factorization();
+        let mut linear = LinearSolver::new(model.pattern(), kind, ordering)?;
+        let symbolic_s = t.elapsed().as_secs_f64();
+        let factorize_solve_s = best(&mut || {
+            linear.factorize(&values)?;
+            let mut x = r.clone();
+            linear.solve_in_place(&mut x)
+        })?;
+        iteration[slot] = IterationCost {
+            contact_kinematics_s,
+            assembly_s,
+            factorize_solve_s,
+            symbolic_s,
+            n_eq: n,
+        };
+    }
+    model.set_coupling(Coupling::Mechanical)?;
+    Ok(MicroBench {
+        wall_s,
+        newton_iterations: newton,
+        self_consistency_iterations: sc,
+        iteration,
+    })
+}
+
+/// The micro-sample benchmark as text.
+pub fn format_micro_bench(b: &MicroBench, pressures: usize) -> String {
+    use std::fmt::Write;
+    let n = b.newton_iterations.len().max(1);
+    let (min, max) = b
+        .newton_iterations
+        .iter()
+        .fold((usize::MAX, 0), |(a, c), &v| (a.min(v), c.max(v)));
+    let mean = b.newton_iterations.iter().sum::<usize>() as f64 / n as f64;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "micro-sample path: Sect. 5.7 sinusoid on a flat (tables/sinusoid_on_flat.toml: p = 2, \
+         32 x 16 / 27 x 14, PR, two-phase self-consistent), {pressures} pressures from 100 Pa to \
+         0.35 MPa, {} rayon threads",
+        rayon::current_num_threads()
+    );
+    let _ = writeln!(
+        s,
+        "  wall time {:.2} s ({:.3} s per pressure); Newton iterations per pressure {min}–{max} \
+         (mean {mean:.1}); self-consistency iterations {}–{}",
+        b.wall_s,
+        b.wall_s / n as f64,
+        b.self_consistency_iterations.iter().min().unwrap_or(&0),
+        b.self_consistency_iterations.iter().max().unwrap_or(&0),
+    );
+    let _ = writeln!(
+        s,
+        "  one Newton iteration at 0.35 MPa (ms, best of 3):  {:>11} {:>11}",
+        "mechanical", "thermal"
+    );
+    let _ = writeln!(
+        s,
+        "    {:<47}{:>11} {:>11}",
+        "unknowns", b.iteration[0].n_eq, b.iteration[1].n_eq
+    );
+    let (m, t) = (b.iteration[0].parts(), b.iteration[1].parts());
+    for ((name, a), (_, c)) in m.iter().zip(&t) {
+        let _ = writeln!(s, "    {name:<47}{:>11.2} {:>11.2}", 1e3 * a, 1e3 * c);
+    }
+    s
 }

@@ -121,10 +121,24 @@ enum Command {
     },
     /// Print performance figures of assembly and the sparse solvers.
     Bench {
-        /// Approximate numbers of unknowns to benchmark.
+        /// Approximate numbers of unknowns of the linear-solver benchmark.
         #[arg(long, value_delimiter = ',', default_values_t = vec![20_000usize, 100_000])]
         sizes: Vec<usize>,
+        /// Pressures of the micro-sample path benchmark (the Sect. 5.7 sinusoid).
+        #[arg(long, default_value_t = 20)]
+        pressures: usize,
+        /// Run only one part: the linear solvers or the micro-sample path.
+        #[arg(long, value_enum)]
+        only: Option<BenchPart>,
     },
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum BenchPart {
+    /// Sparse assembly and direct solvers on synthetic grids.
+    Solvers,
+    /// The Sect. 5.7 micro-sample along a pressure path.
+    Micro,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -614,12 +628,28 @@ fn main() -> ExitCode {
             body,
         } => surface(&case, &output, sample, seed, points, body),
         Command::Law { table, output } => law(&table, &output),
-        Command::Bench { sizes } => match tcgen::bench::main_bench(&sizes) {
-            Ok(()) => ExitCode::SUCCESS,
-            Err(e) => {
-                eprintln!("error: {e}");
-                ExitCode::FAILURE
+        Command::Bench {
+            sizes,
+            pressures,
+            only,
+        } => {
+            let run = || -> tcgen::Result<()> {
+                if only != Some(BenchPart::Micro) {
+                    tcgen::bench::main_bench(&sizes)?;
+                }
+                if only != Some(BenchPart::Solvers) {
+                    let b = tcgen::bench::micro_sample_bench(pressures)?;
+                    print!("{}", tcgen::bench::format_micro_bench(&b, pressures));
+                }
+                Ok(())
+            };
+            match run() {
+                Ok(()) => ExitCode::SUCCESS,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::FAILURE
+                }
             }
-        },
+        }
     }
 }

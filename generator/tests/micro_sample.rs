@@ -205,3 +205,26 @@ fn solve_table_shows_the_lateral_offset_of_a_sliding_top() {
     assert!(json.iter().any(|j| j.abs() > 1e-9), "{json:?}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `tcgen bench --only micro` runs the Sect. 5.7 path and reports every part
+/// of a Newton iteration in both phases; too few pressures are refused.
+#[test]
+fn micro_sample_bench_reports_the_iteration_parts() {
+    let b = tcgen::bench::micro_sample_bench(2).unwrap();
+    assert_eq!(b.newton_iterations.len(), 2);
+    assert!(b.wall_s > 0.0 && b.newton_iterations.iter().all(|&n| n > 0));
+    // Mechanical: displacements and multipliers; thermal: temperatures.
+    assert!(b.iteration[0].n_eq > b.iteration[1].n_eq && b.iteration[1].n_eq > 0);
+    for c in &b.iteration {
+        for (name, t) in c.parts() {
+            assert!(t > 0.0 && t.is_finite(), "{name}: {t}");
+        }
+    }
+    let text = tcgen::bench::format_micro_bench(&b, 2);
+    assert!(text.contains("factorization and solve") && text.contains("mechanical"));
+    let e = tcgen::bench::micro_sample_bench(1).unwrap_err().to_string();
+    assert!(
+        e.contains("bench.pressures") && e.contains("at least 2"),
+        "{e}"
+    );
+}

@@ -33,6 +33,10 @@ use faer::{Conj, MatMut, Par, Side};
 pub const LDLT_REGULARIZATION_EPSILON: f64 = 1e-13;
 /// Regularized LDLᵀ pivots are set to ±(this times max|aᵢⱼ|).
 pub const LDLT_REGULARIZATION_DELTA: f64 = 1e-8;
+/// Systems with fewer equations are factorized and solved on one thread:
+/// below it the synchronisation of faer's parallel supernodal kernels costs
+/// more than it gains (the micro-samples have a few thousand unknowns).
+pub const PARALLEL_FACTORIZATION_MIN_EQ: usize = 20_000;
 /// At most this many steps of iterative refinement follow each solve.
 pub const MAX_REFINEMENT_STEPS: usize = 3;
 /// Refinement stops once ‖b − Ax‖∞ ≤ this × (‖A‖∞‖x‖∞ + ‖b‖∞).
@@ -215,7 +219,7 @@ impl LinearSolver {
         }
         self.values.copy_from_slice(values);
         self.norm_inf = row_sum_norm(self.pattern.as_ref(), values);
-        let par = Par::rayon(0);
+        let par = self.par();
         let req = match &self.factors {
             Factors::Lu { symbolic, .. } => {
                 symbolic.factorize_numeric_lu_scratch::<f64>(par, Default::default())
@@ -356,8 +360,17 @@ impl LinearSolver {
         }
     }
 
+    /// Parallel for large systems only ([`PARALLEL_FACTORIZATION_MIN_EQ`]).
+    fn par(&self) -> Par {
+        if self.n_eq() >= PARALLEL_FACTORIZATION_MIN_EQ {
+            Par::rayon(0)
+        } else {
+            Par::Seq
+        }
+    }
+
     fn solve_scratch(&self) -> StackReq {
-        let par = Par::rayon(0);
+        let par = self.par();
         match &self.factors {
             Factors::Lu { symbolic, .. } => symbolic.solve_in_place_scratch::<f64>(1, par),
             Factors::Cholesky { symbolic, .. } => symbolic.solve_in_place_scratch::<f64>(1, par),
@@ -367,7 +380,7 @@ impl LinearSolver {
     /// x ← A⁻¹x with the current factors.
     fn apply_inverse(&self, x: &mut [f64], stack: &mut MemStack) {
         let n = x.len();
-        let par = Par::rayon(0);
+        let par = self.par();
         let x = MatMut::from_column_major_slice_mut(x, n, 1);
         match &self.factors {
             Factors::Lu { symbolic, numeric } => LuRef::new_unchecked(symbolic, numeric)
