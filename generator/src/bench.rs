@@ -662,6 +662,9 @@ impl IterationCost {
     }
 }
 
+/// The pressure range of the micro-sample path benchmark (Pa).
+pub const MICRO_PRESSURES: (f64, f64) = (1.0e2, 3.5e5);
+
 /// Runs the micro-sample path benchmark.
 pub fn micro_sample_bench(pressures: usize) -> Result<MicroBench> {
     use crate::bulk::Coupling;
@@ -674,7 +677,7 @@ pub fn micro_sample_bench(pressures: usize) -> Result<MicroBench> {
         include_str!("../../tables/sinusoid_on_flat.toml"),
         std::path::Path::new("."),
     )?;
-    let (lo, hi): (f64, f64) = (1.0e2, 3.5e5);
+    let (lo, hi) = MICRO_PRESSURES;
     let path: Vec<f64> = (0..pressures)
         .map(|i| lo * (hi / lo).powf(i as f64 / (pressures - 1) as f64))
         .collect();
@@ -738,7 +741,7 @@ pub fn micro_sample_bench(pressures: usize) -> Result<MicroBench> {
 }
 
 /// The micro-sample benchmark as text.
-pub fn format_micro_bench(b: &MicroBench, pressures: usize) -> String {
+pub fn format_micro_bench(b: &MicroBench) -> String {
     use std::fmt::Write;
     let n = b.newton_iterations.len().max(1);
     let (min, max) = b
@@ -747,11 +750,12 @@ pub fn format_micro_bench(b: &MicroBench, pressures: usize) -> String {
         .fold((usize::MAX, 0), |(a, c), &v| (a.min(v), c.max(v)));
     let mean = b.newton_iterations.iter().sum::<usize>() as f64 / n as f64;
     let mut s = String::new();
+    let (lo, hi) = MICRO_PRESSURES;
     let _ = writeln!(
         s,
         "micro-sample path: Sect. 5.7 sinusoid on a flat (tables/sinusoid_on_flat.toml: p = 2, \
-         32 x 16 / 27 x 14, PR, two-phase self-consistent), {pressures} pressures from 100 Pa to \
-         0.35 MPa, {} rayon threads",
+         32 x 16 / 27 x 14, PR, two-phase self-consistent), {n} pressures from {lo:e} to {hi:e} \
+         Pa, {} rayon threads",
         rayon::current_num_threads()
     );
     let _ = writeln!(
@@ -765,7 +769,7 @@ pub fn format_micro_bench(b: &MicroBench, pressures: usize) -> String {
     );
     let _ = writeln!(
         s,
-        "  one Newton iteration at 0.35 MPa (ms, best of 3):  {:>11} {:>11}",
+        "  one Newton iteration at {hi:e} Pa (ms, best of 3):  {:>11} {:>11}",
         "mechanical", "thermal"
     );
     let _ = writeln!(

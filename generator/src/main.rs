@@ -639,7 +639,7 @@ fn main() -> ExitCode {
                 }
                 if only != Some(BenchPart::Solvers) {
                     let b = tcgen::bench::micro_sample_bench(pressures)?;
-                    print!("{}", tcgen::bench::format_micro_bench(&b, pressures));
+                    print!("{}", tcgen::bench::format_micro_bench(&b));
                 }
                 Ok(())
             };

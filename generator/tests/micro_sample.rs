@@ -220,7 +220,7 @@ fn micro_sample_bench_reports_the_iteration_parts() {
             assert!(t > 0.0 && t.is_finite(), "{name}: {t}");
         }
     }
-    let text = tcgen::bench::format_micro_bench(&b, 2);
+    let text = tcgen::bench::format_micro_bench(&b);
     assert!(text.contains("factorization and solve") && text.contains("mechanical"));
     let e = tcgen::bench::micro_sample_bench(1).unwrap_err().to_string();
     assert!(

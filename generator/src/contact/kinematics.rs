@@ -161,9 +161,19 @@ fn projection_delta<D: DualNum<Primitive = f64>>(g: &PointGeometry, z: &[D], xs:
     delta
 }
 
-/// Normal gap `gN = (x_s − x_m)·n` (positive when apart) and the
-/// projection increment `δ = η − η0` it was evaluated at.
-fn gap_and_delta<D: DualNum<Primitive = f64>>(g: &PointGeometry, z: &[D]) -> (D, D) {
+/// The gap and what it was evaluated from.
+struct GapEval<D> {
+    /// Normal gap `gN = (x_s − x_m)·n` (positive when apart).
+    gap: D,
+    /// Projection increment `δ = η − η0`.
+    delta: D,
+    /// Slave point.
+    xs: [D; 2],
+    /// Master curve at `η0 + δ`.
+    master: MasterEval<D>,
+}
+
+fn gap_eval<D: DualNum<Primitive = f64>>(g: &PointGeometry, z: &[D]) -> GapEval<D> {
     let (xs, _) = slave_point(g, z);
     let delta = projection_delta(g, z, &xs);
     let m = master_eval(g, z, &delta);
@@ -173,18 +183,30 @@ fn gap_and_delta<D: DualNum<Primitive = f64>>(g: &PointGeometry, z: &[D]) -> (D,
     let ny = m.dx[0].clone() * g.normal_sign / &len;
     let r = [xs[0].clone() - &m.x[0], xs[1].clone() - &m.x[1]];
     let along_normal = r[0].clone() * nx + r[1].clone() * ny;
-    if g.vertex {
+    let gap = if g.vertex {
         // At a corner: the distance, signed by the side (the normal cone lies
         // between the normals of the two segments, so either one tells it).
         let distance = (r[0].clone() * &r[0] + r[1].clone() * &r[1]).sqrt();
-        let signed = if along_normal.re() >= 0.0 {
+        if along_normal.re() >= 0.0 {
             distance
         } else {
             -distance
-        };
-        return (signed, delta);
+        }
+    } else {
+        along_normal
+    };
+    GapEval {
+        gap,
+        delta,
+        xs,
+        master: m,
     }
-    (along_normal, delta)
+}
+
+/// Normal gap and the projection increment `δ = η − η0` it was evaluated at.
+fn gap_and_delta<D: DualNum<Primitive = f64>>(g: &PointGeometry, z: &[D]) -> (D, D) {
+    let e = gap_eval(g, z);
+    (e.gap, e.delta)
 }
 
 /// Normal gap `gN = (x_s − x_m)·n` (positive when apart).
@@ -271,32 +293,21 @@ fn u_index(k: usize) -> usize {
 
 /// Gap and projection increment with first and second derivatives in the
 /// `2 (ns + nm)` displacements only (the temperatures enter neither), by one
-/// forward-mode pass; `N` fixes the size on the stack.
-fn displacement_hessian<const N: usize>(
+/// forward-mode pass; `N` is their number, fixed (on the stack) or dynamic.
+fn displacement_hessian<N: nalgebra::Dim>(
     g: &PointGeometry,
     z: &[f64],
-) -> [(f64, Vec<f64>, Vec<f64>); 2] {
-    let u = nalgebra::SVector::<f64, N>::from_fn(|k, _| z[u_index(k)]);
+    n: N,
+) -> [(f64, Vec<f64>, Vec<f64>); 2]
+where
+    nalgebra::DefaultAllocator: nalgebra::allocator::Allocator<N>
+        + nalgebra::allocator::Allocator<nalgebra::U1, N>
+        + nalgebra::allocator::Allocator<N, N>,
+{
+    let u = nalgebra::OVector::<f64, N>::from_fn_generic(n, nalgebra::U1, |k, _| z[u_index(k)]);
     let ((gv, gg, gh), (dv, dg, dh)) = num_dual::hessian(
-        |x: nalgebra::SVector<_, N>| {
-            let zd = local_duals(z, x.as_slice());
-            gap_and_delta(g, &zd)
-        },
-        &u,
-    );
-    [
-        (gv, gg.as_slice().to_vec(), gh.as_slice().to_vec()),
-        (dv, dg.as_slice().to_vec(), dh.as_slice().to_vec()),
-    ]
-}
-
-fn displacement_hessian_dynamic(g: &PointGeometry, z: &[f64]) -> [(f64, Vec<f64>, Vec<f64>); 2] {
-    let n = 2 * z.len() / 3;
-    let u = nalgebra::DVector::<f64>::from_fn(n, |k, _| z[u_index(k)]);
-    let ((gv, gg, gh), (dv, dg, dh)) = num_dual::hessian(
-        |x: nalgebra::DVector<_>| {
-            let zd = local_duals(z, x.as_slice());
-            gap_and_delta(g, &zd)
+        |x: nalgebra::OVector<num_dual::Dual2Vec<f64, N>, N>| {
+            gap_and_delta(g, &local_duals(z, x.as_slice()))
         },
         &u,
     );
@@ -349,48 +360,36 @@ fn scatter(n: usize, (v, grad, hess): &(f64, Vec<f64>, Vec<f64>)) -> Derivatives
 /// `∂²ϑc/∂θ_j∂u = −R_j' ∂δ`.
 pub fn differentiate(g: &PointGeometry, z: &[f64], needs: Needs) -> (Derivatives, Derivatives) {
     let n = z.len();
-    let ns = g.slave_x.len();
-    let values = |gap: f64, delta: f64| {
-        let [r, _, _] = rational_basis(g, delta);
-        let jump = jump_value(g, z, &r);
-        (gap, jump)
-    };
     match needs {
         Needs::Values => {
             let (gap, delta) = gap_and_delta(g, z);
-            let (gap, jump) = values(gap, delta);
-            (value_only(gap), value_only(jump))
+            let [r, _, _] = rational_basis(g, delta);
+            (value_only(gap), value_only(jump_value(g, z, &r)))
         }
         Needs::Thermal => {
             let (gap, delta) = gap_and_delta(g, z);
             let [r, _, _] = rational_basis(g, delta);
-            let mut grad = vec![0.0; n];
-            for (a, &na) in g.slave_basis.iter().enumerate() {
-                grad[3 * a + 2] = na;
-            }
-            for (j, rj) in r.iter().enumerate() {
-                grad[3 * (ns + j) + 2] = -rj;
-            }
             let jump = Derivatives {
                 value: jump_value(g, z, &r),
-                grad,
+                grad: jump_temperature_gradient(g, n, &r),
                 hess: Vec::new(),
             };
             (value_only(gap), jump)
         }
         Needs::Mechanical if !g.clamped => {
-            let (gap, delta) = gap_and_delta(g, z);
-            let [r, dr, _] = rational_basis(g, delta);
-            let gap_d = gap_second_variation(g, z, gap, delta, &r, &dr);
+            let e = gap_eval(g, z);
+            let [r, dr, _] = rational_basis(g, e.delta);
+            let gap_d = gap_second_variation(g, n, &e, &r, &dr);
             (gap_d, value_only(jump_value(g, z, &r)))
         }
         Needs::Mechanical | Needs::Coupled => {
+            use nalgebra::Const;
             let [gap, delta] = match n {
-                12 => displacement_hessian::<8>(g, z),
-                18 => displacement_hessian::<12>(g, z),
-                24 => displacement_hessian::<16>(g, z),
-                30 => displacement_hessian::<20>(g, z),
-                _ => displacement_hessian_dynamic(g, z),
+                12 => displacement_hessian(g, z, Const::<8>),
+                18 => displacement_hessian(g, z, Const::<12>),
+                24 => displacement_hessian(g, z, Const::<16>),
+                30 => displacement_hessian(g, z, Const::<20>),
+                _ => displacement_hessian(g, z, nalgebra::Dyn(2 * n / 3)),
             };
             let gap_d = scatter(n, &gap);
             if needs == Needs::Mechanical {
@@ -413,19 +412,17 @@ pub fn differentiate(g: &PointGeometry, z: &[f64], needs: Needs) -> (Derivatives
 /// (`δη = (A(δ) + gN C(δ))/D`). At a corner (`η` fixed, the gap the signed
 /// distance `gN = ±|r|`, `m = r/gN`): `δgN = m·δr`,
 /// `ΔδgN = (δr·Δr − (m·δr)(m·Δr))/gN`. `r`, `dr` are the rational master
-/// basis and its derivative at the projection.
+/// basis and its derivative at the projection; `n` the number of local
+/// unknowns.
 fn gap_second_variation(
     g: &PointGeometry,
-    z: &[f64],
-    gap: f64,
-    delta: f64,
+    n: usize,
+    e: &GapEval<f64>,
     r: &[f64],
     dr: &[f64],
 ) -> Derivatives {
-    let n = z.len();
     let ns = g.slave_x.len();
-    let m = master_eval(g, z, &delta);
-    let (xs, _) = slave_point(g, z);
+    let (gap, xs, m) = (e.gap, e.xs, &e.master);
     // Displacement dof index of node `k`, component `c`, and the weight of
     // its virtual displacement in x_s − x_m.
     let weight = |k: usize| {
@@ -508,6 +505,20 @@ fn jump_value(g: &PointGeometry, z: &[f64], r: &[f64]) -> f64 {
     slave - master
 }
 
+/// `∂ϑc/∂θ`: `N_a` at the slave temperatures, `−R_j` at the master's (zero
+/// at the displacements), of length `n`.
+fn jump_temperature_gradient(g: &PointGeometry, n: usize, r: &[f64]) -> Vec<f64> {
+    let ns = g.slave_x.len();
+    let mut grad = vec![0.0; n];
+    for (a, &na) in g.slave_basis.iter().enumerate() {
+        grad[3 * a + 2] = na;
+    }
+    for (j, rj) in r.iter().enumerate() {
+        grad[3 * (ns + j) + 2] = -rj;
+    }
+    grad
+}
+
 /// The jump's derivatives in all local unknowns from those of `δ(u)`.
 fn jump_derivatives(
     g: &PointGeometry,
@@ -523,15 +534,9 @@ fn jump_derivatives(
     let m = dd.len();
     let mut d = Derivatives {
         value: jump_value(g, z, &r),
-        grad: vec![0.0; n],
+        grad: jump_temperature_gradient(g, n, &r),
         hess: vec![0.0; n * n],
     };
-    for (a, &na) in g.slave_basis.iter().enumerate() {
-        d.grad[3 * a + 2] = na;
-    }
-    for (j, rj) in r.iter().enumerate() {
-        d.grad[3 * (ns + j) + 2] = -rj;
-    }
     for k in 0..m {
         let ik = u_index(k);
         d.grad[ik] = -dtheta * dd[k];
@@ -655,8 +660,8 @@ mod tests {
     fn fixed_and_dynamic_sizes_agree() {
         let (mut g, z) = geometry(0.5);
         converge(&mut g, &z);
-        let a = displacement_hessian::<12>(&g, &z);
-        let b = displacement_hessian_dynamic(&g, &z);
+        let a = displacement_hessian(&g, &z, nalgebra::Const::<12>);
+        let b = displacement_hessian(&g, &z, nalgebra::Dyn(12));
         for (x, y) in a.iter().zip(&b) {
             assert_eq!(x.0, y.0);
             assert_close(&x.1, &y.1, 1e-15);

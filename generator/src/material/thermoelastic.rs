@@ -174,6 +174,10 @@ impl Material {
 mod tests {
     use super::*;
 
+    use crate::material::test_support::*;
+    use nalgebra::{Rotation3, Vector3};
+    use proptest::prelude::*;
+
     /// The in-plane tangent equals the full one in its block.
     #[test]
     fn in_plane_tangent_is_the_block_of_the_full_one() {
@@ -187,9 +191,6 @@ mod tests {
             assert_eq!(full.dp_df[(r, c)], plane.dp_df[(r, c)]);
         }
     }
-    use crate::material::test_support::*;
-    use nalgebra::{Rotation3, Vector3};
-    use proptest::prelude::*;
 
     /// Fourth-order central difference of `g` at `x` along the 9-vector entry `n` of `F`.
     fn central_difference_f<T>(

@@ -360,6 +360,14 @@ impl LinearSolver {
         }
     }
 
+    /// Whether this solver was analysed for exactly `pattern`.
+    pub fn analyses(&self, pattern: SymbolicSparseColMatRef<'_, usize>) -> bool {
+        let own = self.pattern.as_ref();
+        own.nrows() == pattern.nrows()
+            && own.col_ptr() == pattern.col_ptr()
+            && own.row_idx() == pattern.row_idx()
+    }
+
     /// Parallel for large systems only ([`PARALLEL_FACTORIZATION_MIN_EQ`]).
     fn par(&self) -> Par {
         if self.n_eq() >= PARALLEL_FACTORIZATION_MIN_EQ {

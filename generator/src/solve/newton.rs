@@ -150,22 +150,12 @@ pub struct Newton {
     pub stepping: LoadStepping,
     /// The problem's pattern version the front solver was checked against.
     version: Option<u64>,
-    /// Solvers by pattern fingerprint, most recently used first.
-    solvers: Vec<(u64, LinearSolver)>,
+    /// Analysed solvers, most recently used first.
+    solvers: Vec<LinearSolver>,
 }
 
 /// How many analysed patterns a [`Newton`] keeps.
 const KEPT_SOLVERS: usize = 4;
-
-/// A fingerprint of a sparsity pattern (dimensions, column pointers, row indices).
-fn pattern_fingerprint(pattern: faer::sparse::SymbolicSparseColMatRef<'_, usize>) -> u64 {
-    use std::hash::{Hash, Hasher};
-    let mut h = std::collections::hash_map::DefaultHasher::new();
-    (pattern.nrows(), pattern.ncols()).hash(&mut h);
-    pattern.col_ptr().hash(&mut h);
-    pattern.row_idx().hash(&mut h);
-    h.finish()
-}
 
 impl Newton {
     /// A solver with the given settings.
@@ -210,8 +200,7 @@ impl Newton {
             if self.version != Some(version) {
                 // For one problem the pattern determines the factorization
                 // kind (the coupling and the multipliers set both).
-                let key = pattern_fingerprint(p.pattern());
-                match self.solvers.iter().position(|(k, _)| *k == key) {
+                match self.solvers.iter().position(|l| l.analyses(p.pattern())) {
                     Some(i) => {
                         let kept = self.solvers.remove(i);
                         self.solvers.insert(0, kept);
@@ -219,7 +208,7 @@ impl Newton {
                     None => {
                         let (kind, ordering) = p.factorization();
                         let solver = LinearSolver::new(p.pattern(), kind, ordering)?;
-                        self.solvers.insert(0, (key, solver));
+                        self.solvers.insert(0, solver);
                         self.solvers.truncate(KEPT_SOLVERS);
                     }
                 }
@@ -264,7 +253,7 @@ impl Newton {
                     format!("residual grew to {total:.3e} from {total_ref:.3e}"),
                 ));
             }
-            let solver = &mut self.solvers[0].1;
+            let solver = &mut self.solvers[0];
             solver
                 .factorize(&values)
                 .map_err(|e| fail(it, e.to_string()))?;

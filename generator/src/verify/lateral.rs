@@ -210,12 +210,11 @@ fn mismatched() -> Result<Vec<Check>> {
         .iter()
         .map(|o| (o.jump / mean - 1.0).abs())
         .fold(0.0, f64::max);
-    checks.push(Check::with_error(
+    checks.push(Check::absolute(
         case,
         "LN jump: max rel. deviation over heights",
         dev,
         0.0,
-        dev,
         0.02,
     ));
     // Free top: the matched configuration, the matched pair's jump, no net
