@@ -28,7 +28,7 @@ use crate::contact::segments::{Breakpoint, Segmenter};
 use crate::contact::{
     ContactSettings, Integration, ThermalContact, ThermalEnforcement, ThermalMethod,
 };
-use crate::geometry::{NurbsPatch, Side};
+use crate::geometry::{NurbsPatch, Side, ThbPatch};
 use crate::solve::dofs::DofMap;
 use crate::{Error, Result};
 
@@ -147,8 +147,8 @@ impl ContactInterface {
     /// and of the master patch (both given with their global node offsets),
     /// in scaled units (settings from [`ContactSettings::scaled`]).
     pub fn new(
-        slave: (&NurbsPatch, usize, usize, Side),
-        master: (&NurbsPatch, usize, usize, Side),
+        slave: (&ThbPatch, usize, usize, Side),
+        master: (&ThbPatch, usize, usize, Side),
         settings: ContactSettings,
         period: Option<f64>,
     ) -> Result<Self> {
@@ -157,6 +157,11 @@ impl ContactInterface {
         let (mp, moff, mdir, mside) = master;
         let (slave_face, sidx) = sp.face(sdir, sside);
         let (master_face, midx) = mp.face(mdir, mside);
+        let unrefined = || {
+            Error::Geometry("contact between locally refined surfaces is not available yet".into())
+        };
+        let slave_face = slave_face.to_nurbs().ok_or_else(unrefined)?;
+        let master_face = master_face.to_nurbs().ok_or_else(unrefined)?;
         if master_face.param_dim() != 1 {
             return Err(Error::Geometry(
                 "contact is implemented for 2D bodies (curves)".into(),

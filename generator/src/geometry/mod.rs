@@ -8,10 +8,12 @@
 //! - [`refine`]: knot insertion (A5.4) and degree elevation (A5.9), row-wise on homogeneous
 //!   coordinates;
 //! - [`shapes`]: exact rectangles, cuboids, circular arcs, the quarter annulus;
-//! - [`fit`]: B-spline fit of a rough surface height function and the fitted block (spec §3).
+//! - [`fit`]: B-spline fit of a rough surface height function and the fitted block (spec §3);
+//! - [`hierarchical`]: local refinement by truncated hierarchical B-splines ([`ThbPatch`]).
 //!
 //! Algorithms follow Piegl & Tiller, *The NURBS Book* (2nd ed.).
 pub mod fit;
+pub mod hierarchical;
 pub mod knots;
 pub mod nurbs;
 pub mod patch_quadrature;
@@ -21,6 +23,7 @@ pub mod shapes;
 pub use fit::{
     FitMethod, RoughFace, SurfaceFit, fit_height_function, rough_block, try_rough_block,
 };
+pub use hierarchical::{Cell, HierarchicalMesh, ThbPatch};
 pub use knots::KnotVector;
 pub use nurbs::{Element, NurbsPatch, Side};
 pub use patch_quadrature::{ElementQuadrature, FaceElementQuadrature, FaceQuadPoint, QuadPoint};

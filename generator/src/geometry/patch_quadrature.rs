@@ -53,26 +53,146 @@ pub struct FaceElementQuadrature {
     pub points: Vec<FaceQuadPoint>,
 }
 
-/// Tensor Gauss points of an element: `(xi, parametric weight)`, first direction fastest.
-fn tensor_points(dirs: &[usize], el: &Element, rules: &[GaussLegendre]) -> Vec<([f64; 3], f64)> {
+/// Tensor Gauss points of the parametric box `[lower, upper]` over the directions `dirs`:
+/// `(xi, parametric weight)`, first direction fastest.
+pub(crate) fn tensor_points(
+    dirs: &[usize],
+    lower: [f64; 3],
+    upper: [f64; 3],
+    rules: &[GaussLegendre],
+) -> Vec<([f64; 3], f64)> {
     let counts: Vec<usize> = rules.iter().map(GaussLegendre::len).collect();
     let total: usize = counts.iter().product();
     let mut out = Vec::with_capacity(total);
     for q in 0..total {
         let mut rest = q;
         // Directions not integrated over stay at the element's lower value.
-        let mut xi = el.lower;
+        let mut xi = lower;
         let mut w = 1.0;
         for (m, &d) in dirs.iter().enumerate() {
             let g = rest % counts[m];
             rest /= counts[m];
-            let half = 0.5 * (el.upper[d] - el.lower[d]);
-            xi[d] = el.lower[d] + half * (1.0 + rules[m].points[g]);
+            let half = 0.5 * (upper[d] - lower[d]);
+            xi[d] = lower[d] + half * (1.0 + rules[m].points[g]);
             w *= half * rules[m].weights[g];
         }
         out.push((xi, w));
     }
     out
+}
+
+/// The Gauss rules of an element with `n_gauss[d]` points in direction `d` (a single entry
+/// applies to all directions).
+#[track_caller]
+pub(crate) fn gauss_rules(dim: usize, n_gauss: &[usize]) -> Vec<GaussLegendre> {
+    assert!(
+        n_gauss.len() == dim || n_gauss.len() == 1,
+        "element_quadrature: n_gauss needs 1 or {dim} entries, got {}",
+        n_gauss.len()
+    );
+    (0..dim)
+        .map(|d| {
+            GaussLegendre::new(if n_gauss.len() == 1 {
+                n_gauss[0]
+            } else {
+                n_gauss[d]
+            })
+        })
+        .collect()
+}
+
+/// A bulk quadrature point from the basis at `xi` (with first derivatives) and the control
+/// points `cp` (indexed by `basis.indices`): physical point, `∂R/∂x = J^{-T} ∂R/∂ξ` with
+/// `J[i][k] = ∂x_i/∂ξ_k`, and the weight `wq · |det J|`.
+pub(crate) fn bulk_point(
+    dim: usize,
+    xi: [f64; 3],
+    wq: f64,
+    basis: &RationalBasis,
+    cp: &[[f64; 3]],
+) -> QuadPoint {
+    let mut x = [0.0; 3];
+    let mut jac = [[0.0; 3]; 3];
+    for (a, &g) in basis.indices.iter().enumerate() {
+        for i in 0..3 {
+            x[i] += basis.values[a] * cp[g][i];
+        }
+        for i in 0..dim {
+            for k in 0..dim {
+                jac[i][k] += basis.d1[a][k] * cp[g][i];
+            }
+        }
+    }
+    let (det, inv) = invert(&jac, dim);
+    let dr_dx = basis
+        .d1
+        .iter()
+        .map(|g| {
+            let mut out = [0.0; 3];
+            for i in 0..dim {
+                for k in 0..dim {
+                    out[i] += inv[k][i] * g[k];
+                }
+            }
+            out
+        })
+        .collect();
+    QuadPoint {
+        xi,
+        x,
+        weight: wq * det.abs(),
+        r: basis.values.clone(),
+        dr_dx,
+    }
+}
+
+/// A face quadrature point on the face where direction `dir` is at its `side` end, from the
+/// *volume* basis at `xi` (with first derivatives, for the position, the face tangents and
+/// the transversal tangent) and the face basis values `r`: the weight includes the surface
+/// (volume patches) or line (surface patches) Jacobian; the unit normal points out of the
+/// patch (oriented by the transversal tangent `∂x/∂ξ_dir`; planar patches: in the x-y plane).
+pub(crate) fn face_point(
+    dim: usize,
+    (dir, side): (usize, Side),
+    xi: [f64; 3],
+    wq: f64,
+    volume: &RationalBasis,
+    cp: &[[f64; 3]],
+    r: Vec<f64>,
+) -> FaceQuadPoint {
+    let face_dirs: Vec<usize> = (0..dim).filter(|&d| d != dir).collect();
+    let mut x = [0.0; 3];
+    let mut jac = [[0.0; 3]; 3];
+    for (a, &g) in volume.indices.iter().enumerate() {
+        for i in 0..3 {
+            x[i] += volume.values[a] * cp[g][i];
+            for k in 0..dim {
+                jac[i][k] += volume.d1[a][k] * cp[g][i];
+            }
+        }
+    }
+    let column = |k: usize| [jac[0][k], jac[1][k], jac[2][k]];
+    let transversal = column(dir);
+    let (mut normal, measure) = if dim == 2 {
+        let t = column(face_dirs[0]);
+        let len = (t[0] * t[0] + t[1] * t[1]).sqrt();
+        ([t[1] / len, -t[0] / len, 0.0], len)
+    } else {
+        let n = cross(column(face_dirs[0]), column(face_dirs[1]));
+        let len = norm(n);
+        ([n[0] / len, n[1] / len, n[2] / len], len)
+    };
+    let sign = if side == Side::High { 1.0 } else { -1.0 };
+    if sign * dot(normal, transversal) < 0.0 {
+        normal = normal.map(|c| -c);
+    }
+    FaceQuadPoint {
+        xi,
+        x,
+        weight: wq * measure,
+        r,
+        normal,
+    }
 }
 
 impl NurbsPatch {
@@ -82,72 +202,24 @@ impl NurbsPatch {
     #[track_caller]
     pub fn element_quadrature(&self, el: &Element, n_gauss: &[usize]) -> ElementQuadrature {
         let dim = self.param_dim();
-        assert!(
-            n_gauss.len() == dim || n_gauss.len() == 1,
-            "element_quadrature: n_gauss needs 1 or {dim} entries, got {}",
-            n_gauss.len()
-        );
-        let rules: Vec<GaussLegendre> = (0..dim)
-            .map(|d| {
-                GaussLegendre::new(if n_gauss.len() == 1 {
-                    n_gauss[0]
-                } else {
-                    n_gauss[d]
-                })
-            })
-            .collect();
+        let rules = gauss_rules(dim, n_gauss);
         let dirs: Vec<usize> = (0..dim).collect();
         let mut basis = RationalBasis::default();
         let mut conn = Vec::new();
         let mut points = Vec::new();
-        for (xi, wq) in tensor_points(&dirs, el, &rules) {
+        for (xi, wq) in tensor_points(&dirs, el.lower, el.upper, &rules) {
             self.basis_in_spans(&el.spans, &xi[..dim], 1, &mut basis);
             if conn.is_empty() {
                 conn.clone_from(&basis.indices);
             }
-            let cp = self.control_points();
-            let mut x = [0.0; 3];
-            let mut jac = [[0.0; 3]; 3];
-            for (a, &g) in basis.indices.iter().enumerate() {
-                for i in 0..3 {
-                    x[i] += basis.values[a] * cp[g][i];
-                }
-                for i in 0..dim {
-                    for k in 0..dim {
-                        jac[i][k] += basis.d1[a][k] * cp[g][i];
-                    }
-                }
-            }
-            let (det, inv) = invert(&jac, dim);
-            let dr_dx = basis
-                .d1
-                .iter()
-                .map(|g| {
-                    let mut out = [0.0; 3];
-                    for i in 0..dim {
-                        for k in 0..dim {
-                            out[i] += inv[k][i] * g[k];
-                        }
-                    }
-                    out
-                })
-                .collect();
-            points.push(QuadPoint {
-                xi,
-                x,
-                weight: wq * det.abs(),
-                r: basis.values.clone(),
-                dr_dx,
-            });
+            points.push(bulk_point(dim, xi, wq, &basis, self.control_points()));
         }
         ElementQuadrature { conn, points }
     }
 
     /// Quadrature over the face where direction `dir` is at its `side` end, per face element,
-    /// with `n_gauss` points per face direction. Weights include the surface (volume patches) or
-    /// line (surface patches) Jacobian; the unit normal points out of the patch (found from the
-    /// face tangents and oriented by the transversal tangent `∂x/∂ξ_dir`; for planar patches it
-    /// lies in the x-y plane). `r` holds the face basis functions, indexed like `conn`.
+    /// with `n_gauss` points per face direction (see [`face_point`] for weights and normals).
+    /// `r` holds the face basis functions, indexed like `conn`.
     #[track_caller]
     pub fn face_quadrature(
         &self,
@@ -165,13 +237,12 @@ impl NurbsPatch {
             "face_quadrature: direction {dir} out of range 0..{dim}"
         );
         let kv = &self.knots()[dir];
-        let (fixed_value, fixed_span, fixed_index, sign) = match side {
-            Side::Low => (kv.first(), kv.degree(), 0, -1.0),
-            Side::High => (kv.last(), kv.n_basis() - 1, kv.n_basis() - 1, 1.0),
+        let (fixed_value, fixed_span, fixed_index) = match side {
+            Side::Low => (kv.first(), kv.degree(), 0),
+            Side::High => (kv.last(), kv.n_basis() - 1, kv.n_basis() - 1),
         };
         let face_dirs: Vec<usize> = (0..dim).filter(|&d| d != dir).collect();
-        let rule = GaussLegendre::new(n_gauss);
-        let rules = vec![rule; face_dirs.len()];
+        let rules = vec![GaussLegendre::new(n_gauss); face_dirs.len()];
         let mut basis = RationalBasis::default();
         let mut out = Vec::new();
         for mut el in self.elements() {
@@ -182,21 +253,12 @@ impl NurbsPatch {
             el.upper[dir] = fixed_value;
             let mut conn = Vec::new();
             let mut points = Vec::new();
-            for (xi, wq) in tensor_points(&face_dirs, &el, &rules) {
+            for (xi, wq) in tensor_points(&face_dirs, el.lower, el.upper, &rules) {
                 self.basis_in_spans(&el.spans, &xi[..dim], 1, &mut basis);
-                let cp = self.control_points();
-                let mut x = [0.0; 3];
-                let mut jac = [[0.0; 3]; 3];
-                let mut r = Vec::with_capacity(basis.len());
                 let collect_conn = conn.is_empty();
+                let mut r = Vec::with_capacity(basis.len());
                 let mut r_sum = 0.0;
                 for (a, &g) in basis.indices.iter().enumerate() {
-                    for i in 0..3 {
-                        x[i] += basis.values[a] * cp[g][i];
-                        for k in 0..dim {
-                            jac[i][k] += basis.d1[a][k] * cp[g][i];
-                        }
-                    }
                     if self.ijk(g)[dir] == fixed_index {
                         r.push(basis.values[a]);
                         r_sum += basis.values[a];
@@ -207,27 +269,15 @@ impl NurbsPatch {
                 }
                 // Basis functions not on the face vanish there; renormalise against round-off.
                 r.iter_mut().for_each(|v| *v /= r_sum);
-                let column = |k: usize| [jac[0][k], jac[1][k], jac[2][k]];
-                let transversal = column(dir);
-                let (mut normal, measure) = if dim == 2 {
-                    let t = column(face_dirs[0]);
-                    let len = (t[0] * t[0] + t[1] * t[1]).sqrt();
-                    ([t[1] / len, -t[0] / len, 0.0], len)
-                } else {
-                    let n = cross(column(face_dirs[0]), column(face_dirs[1]));
-                    let len = norm(n);
-                    ([n[0] / len, n[1] / len, n[2] / len], len)
-                };
-                if sign * dot(normal, transversal) < 0.0 {
-                    normal = normal.map(|c| -c);
-                }
-                points.push(FaceQuadPoint {
+                points.push(face_point(
+                    dim,
+                    (dir, side),
                     xi,
-                    x,
-                    weight: wq * measure,
+                    wq,
+                    &basis,
+                    self.control_points(),
                     r,
-                    normal,
-                });
+                ));
             }
             out.push(FaceElementQuadrature { conn, points });
         }
@@ -252,7 +302,7 @@ fn norm(a: [f64; 3]) -> f64 {
 }
 
 /// Determinant and inverse of the leading `dim × dim` block of `m`.
-fn invert(m: &[[f64; 3]; 3], dim: usize) -> (f64, [[f64; 3]; 3]) {
+pub(crate) fn invert(m: &[[f64; 3]; 3], dim: usize) -> (f64, [[f64; 3]; 3]) {
     let mut inv = [[0.0; 3]; 3];
     match dim {
         1 => {

@@ -16,7 +16,7 @@ use crate::bulk::global::Assembly;
 use crate::bulk::local::{Coupling, ElementFields, element_residual_tangent};
 use crate::contact::kinematics::Needs;
 use crate::contact::{ContactInterface, ContactSettings, Unknowns};
-use crate::geometry::{ElementQuadrature, NurbsPatch, Side};
+use crate::geometry::{ElementQuadrature, Side, ThbPatch};
 use crate::material::Material;
 use crate::quadrature::default_bulk_points;
 use crate::solve::dofs::{DofMap, DofMapBuilder};
@@ -33,8 +33,8 @@ pub type SourceFn = Arc<dyn Fn(&[f64; 3]) -> (Vector3<f64>, f64) + Send + Sync>;
 pub struct Body {
     /// Name used in messages and output.
     pub name: String,
-    /// The geometry (scaled).
-    pub patch: NurbsPatch,
+    /// The geometry and discretization (scaled): a THB patch, locally refined or not.
+    pub patch: ThbPatch,
     /// The material (scaled).
     pub material: Material,
     /// Index of the body's first control point among all nodes.
@@ -157,14 +157,16 @@ impl ModelBuilder {
         self
     }
 
-    /// Adds a body (geometry in m, material in SI); returns its index.
+    /// Adds a body (geometry in m, material in SI): a NURBS patch, or a THB patch
+    /// (locally refined); returns its index.
     pub fn add_body(
         &mut self,
         name: &str,
-        patch: &NurbsPatch,
+        patch: impl Into<ThbPatch>,
         material: &Material,
     ) -> Result<usize> {
         material.validate(&format!("material.{name}"))?;
+        let patch = patch.into();
         if patch.param_dim() != self.dim {
             return Err(Error::Geometry(format!(
                 "body `{name}` has {} parametric directions, the model is {}D",
@@ -173,12 +175,7 @@ impl ModelBuilder {
             )));
         }
         let l = self.scales.length;
-        let pts: Vec<[f64; 3]> = patch
-            .control_points()
-            .iter()
-            .map(|p| [p[0] / l, p[1] / l, p[2] / l])
-            .collect();
-        let scaled = NurbsPatch::new(patch.knots().to_vec(), pts, patch.weights().to_vec())?;
+        let scaled = patch.map_points(|p| [p[0] / l, p[1] / l, p[2] / l]);
         let node_offset = self.bodies.iter().map(|b| b.patch.n_control_points()).sum();
         let nq: Vec<usize> = scaled
             .knots()
@@ -188,9 +185,7 @@ impl ModelBuilder {
                     .unwrap_or_else(|| default_bulk_points(k.degree()))
             })
             .collect();
-        let quadrature = scaled
-            .elements()
-            .iter()
+        let quadrature = (0..scaled.n_elements())
             .map(|e| scaled.element_quadrature(e, &nq))
             .collect();
         self.bodies.push(Body {

@@ -118,8 +118,8 @@ pub fn errors(model: &Model, exact: &dyn Fn(&[f64; 3]) -> ExactFields) -> MmsErr
     let (ls, ts) = (model.scales.length, model.scales.temperature);
     for body in &model.bodies {
         let nq: Vec<usize> = body.patch.knots().iter().map(|k| k.degree() + 3).collect();
-        for el in body.patch.elements() {
-            let q = body.patch.element_quadrature(&el, &nq);
+        for e in 0..body.patch.n_elements() {
+            let q = body.patch.element_quadrature(e, &nq);
             for qp in &q.points {
                 let x = [qp.x[0] * ls, qp.x[1] * ls, 0.0];
                 let e = exact(&x);

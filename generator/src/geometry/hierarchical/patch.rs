@@ -1,0 +1,436 @@
+//! [`ThbPatch`]: a rational THB-spline patch — the locally refinable
+//! counterpart of [`NurbsPatch`] that the analysis works on.
+//!
+//! The geometry is the one of the NURBS patch it was built from, exactly:
+//! the THB spaces contain the level-0 space, so the homogeneous coordinates
+//! `(w x, w)` of the NURBS map are prolonged exactly ([`prolongate`]) and the
+//! rational THB functions `R_a = w_a T_a / W` with `W = Σ w_a T_a` reproduce
+//! the NURBS map. An unrefined `ThbPatch` has the NURBS patch's functions,
+//! numbering and elements.
+
+use super::basis::{ThbBasis, ThbElement, prolongate};
+use super::mesh::{Cell, HierarchicalMesh};
+use crate::basis::{RationalBasis, TensorBasis, bspline_tensor_into, rationalize};
+use crate::geometry::patch_quadrature::{bulk_point, face_point, gauss_rules, tensor_points};
+use crate::geometry::{ElementQuadrature, FaceElementQuadrature, KnotVector, NurbsPatch, Side};
+use crate::quadrature::GaussLegendre;
+
+/// A rational THB-spline patch of 1 to 3 parametric directions, control points in 3D.
+#[derive(Clone, Debug)]
+pub struct ThbPatch {
+    mesh: HierarchicalMesh,
+    basis: ThbBasis,
+    points: Vec<[f64; 3]>,
+    weights: Vec<f64>,
+}
+
+/// Homogeneous coordinates `(w x, w y, w z, w)` per control point.
+fn homogeneous(points: &[[f64; 3]], weights: &[f64]) -> Vec<f64> {
+    points
+        .iter()
+        .zip(weights)
+        .flat_map(|(x, &w)| [w * x[0], w * x[1], w * x[2], w])
+        .collect()
+}
+
+/// Control points and weights from homogeneous coordinates.
+fn cartesian(h: &[f64]) -> (Vec<[f64; 3]>, Vec<f64>) {
+    h.chunks(4)
+        .map(|c| ([c[0] / c[3], c[1] / c[3], c[2] / c[3]], c[3]))
+        .unzip()
+}
+
+impl From<&NurbsPatch> for ThbPatch {
+    fn from(patch: &NurbsPatch) -> Self {
+        ThbPatch::from_nurbs(patch)
+    }
+}
+
+impl ThbPatch {
+    /// The unrefined THB patch of a NURBS patch (same functions, numbering and elements).
+    pub fn from_nurbs(patch: &NurbsPatch) -> Self {
+        let mesh = HierarchicalMesh::new(patch.knots().to_vec());
+        let basis = ThbBasis::new(&mesh);
+        debug_assert_eq!(basis.n_functions(), patch.n_control_points());
+        ThbPatch {
+            mesh,
+            basis,
+            points: patch.control_points().to_vec(),
+            weights: patch.weights().to_vec(),
+        }
+    }
+
+    /// The NURBS patch of an unrefined THB patch (`None` once refined).
+    pub fn to_nurbs(&self) -> Option<NurbsPatch> {
+        (self.mesh.n_levels() == 1).then(|| {
+            NurbsPatch::new(
+                self.knots().to_vec(),
+                self.points.clone(),
+                self.weights.clone(),
+            )
+            .expect("a THB patch has valid control points and weights")
+        })
+    }
+
+    /// The same geometry on a refinement of the mesh (`mesh` must contain every refined cell
+    /// of this patch's mesh): control points by exact prolongation.
+    #[track_caller]
+    pub fn with_mesh(&self, mesh: HierarchicalMesh) -> ThbPatch {
+        assert!(
+            self.mesh
+                .refined_cells()
+                .into_iter()
+                .all(|c| mesh.is_refined(c)),
+            "ThbPatch::with_mesh: the new mesh must refine the old one"
+        );
+        let basis = ThbBasis::new(&mesh);
+        let h = prolongate(
+            &self.basis,
+            &mesh,
+            &basis,
+            &homogeneous(&self.points, &self.weights),
+            4,
+        );
+        let (points, weights) = cartesian(&h);
+        ThbPatch {
+            mesh,
+            basis,
+            points,
+            weights,
+        }
+    }
+
+    /// A copy with the given cells refined (see [`HierarchicalMesh::refine`]).
+    pub fn refined(&self, cells: &[Cell]) -> ThbPatch {
+        let mut mesh = self.mesh.clone();
+        mesh.refine(cells);
+        self.with_mesh(mesh)
+    }
+
+    /// The coefficients in the space of the refinement `to` of a field with `n_comp`
+    /// components per function (function-major) in this patch's space: exact (nested
+    /// spaces; the rational basis is handled through the weights).
+    pub fn prolongate(&self, to: &ThbPatch, values: &[f64], n_comp: usize) -> Vec<f64> {
+        let weighted: Vec<f64> = values
+            .iter()
+            .enumerate()
+            .map(|(i, v)| v * self.weights[i / n_comp])
+            .collect();
+        let mut out = prolongate(&self.basis, &to.mesh, &to.basis, &weighted, n_comp);
+        for (i, v) in out.iter_mut().enumerate() {
+            *v /= to.weights[i / n_comp];
+        }
+        out
+    }
+
+    /// The hierarchical mesh.
+    pub fn mesh(&self) -> &HierarchicalMesh {
+        &self.mesh
+    }
+
+    /// The THB basis (functions, elements, extraction).
+    pub fn thb_basis(&self) -> &ThbBasis {
+        &self.basis
+    }
+
+    /// Number of parametric directions.
+    pub fn param_dim(&self) -> usize {
+        self.mesh.dim()
+    }
+
+    /// The level-0 knot vectors, one per direction.
+    pub fn knots(&self) -> &[KnotVector] {
+        &self.mesh.level(0).knots
+    }
+
+    /// The degrees, one per parametric direction.
+    pub fn degrees(&self) -> Vec<usize> {
+        self.knots().iter().map(KnotVector::degree).collect()
+    }
+
+    /// Number of control points (THB functions).
+    pub fn n_control_points(&self) -> usize {
+        self.points.len()
+    }
+
+    /// Cartesian control points.
+    pub fn control_points(&self) -> &[[f64; 3]] {
+        &self.points
+    }
+
+    /// Control weights.
+    pub fn weights(&self) -> &[f64] {
+        &self.weights
+    }
+
+    /// The elements (active cells).
+    pub fn elements(&self) -> &[ThbElement] {
+        self.basis.elements()
+    }
+
+    /// Number of elements.
+    pub fn n_elements(&self) -> usize {
+        self.basis.elements().len()
+    }
+
+    /// A copy with every control point mapped by `f` (weights and mesh unchanged).
+    pub fn map_points(&self, f: impl Fn([f64; 3]) -> [f64; 3]) -> ThbPatch {
+        ThbPatch {
+            mesh: self.mesh.clone(),
+            basis: self.basis.clone(),
+            points: self.points.iter().map(|&x| f(x)).collect(),
+            weights: self.weights.clone(),
+        }
+    }
+
+    /// The rational THB functions nonzero on element `e` at `xi` (the element's polynomial
+    /// pieces: its ends give one-sided limits) with parametric derivatives up to `n_ders ≤ 2`,
+    /// into `out`; `scratch` holds the element's B-splines.
+    pub fn element_basis_into(
+        &self,
+        e: usize,
+        xi: &[f64],
+        n_ders: usize,
+        scratch: &mut TensorBasis,
+        out: &mut RationalBasis,
+    ) {
+        self.thb_functions_into(e, xi, n_ders, scratch, out);
+        rationalize(out, &self.weights, self.param_dim(), n_ders);
+    }
+
+    /// The polynomial THB functions `T_a` (before the rational weighting) nonzero on
+    /// element `e` at `xi`, with parametric derivatives up to `n_ders ≤ 2`: the element's
+    /// B-splines times its extraction.
+    pub fn thb_functions_into(
+        &self,
+        e: usize,
+        xi: &[f64],
+        n_ders: usize,
+        scratch: &mut TensorBasis,
+        out: &mut RationalBasis,
+    ) {
+        let el = &self.basis.elements()[e];
+        let dim = self.param_dim();
+        let level = self.mesh.level(el.cell.level);
+        bspline_tensor_into(&level.knots, &el.spans[..dim], xi, n_ders, scratch);
+        out.indices.clone_from(&el.functions);
+        let Some(c) = &el.extraction else {
+            out.values.clone_from(&scratch.values);
+            out.d1.clone_from(&scratch.d1);
+            out.d2.clone_from(&scratch.d2);
+            return;
+        };
+        let n_local = scratch.values.len();
+        out.values.clear();
+        out.d1.clear();
+        out.d2.clear();
+        for row in c.chunks(n_local) {
+            let mut v = 0.0;
+            let mut g = [0.0; 3];
+            let mut h = [[0.0; 3]; 3];
+            for (j, &cj) in row.iter().enumerate() {
+                if cj == 0.0 {
+                    continue;
+                }
+                v += cj * scratch.values[j];
+                if n_ders >= 1 {
+                    for k in 0..3 {
+                        g[k] += cj * scratch.d1[j][k];
+                    }
+                    if n_ders >= 2 {
+                        for k in 0..3 {
+                            for l in 0..3 {
+                                h[k][l] += cj * scratch.d2[j][k][l];
+                            }
+                        }
+                    }
+                }
+            }
+            out.values.push(v);
+            if n_ders >= 1 {
+                out.d1.push(g);
+            }
+            if n_ders >= 2 {
+                out.d2.push(h);
+            }
+        }
+    }
+
+    /// [`Self::element_basis_into`] with fresh buffers.
+    pub fn element_basis(&self, e: usize, xi: &[f64], n_ders: usize) -> RationalBasis {
+        let mut out = RationalBasis::default();
+        self.element_basis_into(e, xi, n_ders, &mut TensorBasis::default(), &mut out);
+        out
+    }
+
+    /// The rational basis functions nonzero at `xi` (in the element [`Self::locate`] finds)
+    /// with parametric derivatives up to `n_ders ≤ 2`.
+    pub fn basis(&self, xi: &[f64], n_ders: usize) -> RationalBasis {
+        self.element_basis(self.locate(xi), xi, n_ders)
+    }
+
+    /// The element containing the parameter point `xi` (clamped into the domain).
+    pub fn locate(&self, xi: &[f64]) -> usize {
+        self.basis
+            .element_of(self.mesh.locate(xi))
+            .expect("locate returns an active cell")
+    }
+
+    /// The physical point `x(ξ)`.
+    pub fn point(&self, xi: &[f64]) -> [f64; 3] {
+        let b = self.element_basis(self.locate(xi), xi, 0);
+        let mut x = [0.0; 3];
+        for (&a, &r) in b.indices.iter().zip(&b.values) {
+            for i in 0..3 {
+                x[i] += r * self.points[a][i];
+            }
+        }
+        x
+    }
+
+    /// Bulk quadrature of element `e` with `n_gauss[d]` Gauss points in direction `d` (a
+    /// single entry applies to all directions), for `param_dim ==` spatial dimension.
+    #[track_caller]
+    pub fn element_quadrature(&self, e: usize, n_gauss: &[usize]) -> ElementQuadrature {
+        let dim = self.param_dim();
+        let rules = gauss_rules(dim, n_gauss);
+        let dirs: Vec<usize> = (0..dim).collect();
+        let el = &self.basis.elements()[e];
+        let (mut scratch, mut basis) = (TensorBasis::default(), RationalBasis::default());
+        let points = tensor_points(&dirs, el.lower, el.upper, &rules)
+            .into_iter()
+            .map(|(xi, wq)| {
+                self.element_basis_into(e, &xi[..dim], 1, &mut scratch, &mut basis);
+                bulk_point(dim, xi, wq, &basis, &self.points)
+            })
+            .collect();
+        ElementQuadrature {
+            conn: el.functions.clone(),
+            points,
+        }
+    }
+
+    /// The boundary face where direction `dir` is at its `side` end, as a patch of one
+    /// dimension less (remaining directions in order), and the indices in this patch of its
+    /// functions (the THB functions with a nonzero trace), in the face patch's numbering.
+    #[track_caller]
+    pub fn face(&self, dir: usize, side: Side) -> (ThbPatch, Vec<usize>) {
+        let dim = self.param_dim();
+        assert!(
+            dim >= 2 && dir < dim,
+            "ThbPatch::face: direction {dir} of a {dim}-direction patch"
+        );
+        let mesh = self.mesh.face(dir, side == Side::Low);
+        let basis = ThbBasis::new(&mesh);
+        let others: Vec<usize> = (0..dim).filter(|&d| d != dir).collect();
+        let indices: Vec<usize> = (0..basis.n_functions())
+            .map(|a| {
+                let (l, g) = basis.function(a);
+                let mut f = [0usize; 3];
+                for (k, &d) in others.iter().enumerate() {
+                    f[d] = g[k];
+                }
+                f[dir] = match side {
+                    Side::Low => 0,
+                    Side::High => self.mesh.level(l).n_functions(dir) - 1,
+                };
+                self.basis
+                    .id(l, f)
+                    .expect("the face functions are traces of active functions")
+            })
+            .collect();
+        let points = indices.iter().map(|&a| self.points[a]).collect();
+        let weights = indices.iter().map(|&a| self.weights[a]).collect();
+        (
+            ThbPatch {
+                mesh,
+                basis,
+                points,
+                weights,
+            },
+            indices,
+        )
+    }
+
+    /// The cell of the volume element adjacent to face cell `c` of face (`dir`, `side`).
+    fn volume_cell(&self, c: Cell, dir: usize, side: Side) -> Cell {
+        let dim = self.param_dim();
+        let mut index = [0u32; 3];
+        let mut k = 0;
+        for (d, i) in index.iter_mut().enumerate().take(dim) {
+            if d == dir {
+                *i = match side {
+                    Side::Low => 0,
+                    Side::High => self.mesh.n_cells(c.level, dir) - 1,
+                };
+            } else {
+                *i = c.index[k];
+                k += 1;
+            }
+        }
+        Cell {
+            level: c.level,
+            index,
+        }
+    }
+
+    /// Quadrature over the face where direction `dir` is at its `side` end, per face
+    /// element, with `n_gauss` points per face direction (weights with the surface or line
+    /// Jacobian, outward unit normals). `conn` holds this patch's indices of the face
+    /// functions, `r` their values.
+    #[track_caller]
+    pub fn face_quadrature(
+        &self,
+        dir: usize,
+        side: Side,
+        n_gauss: usize,
+    ) -> Vec<FaceElementQuadrature> {
+        let dim = self.param_dim();
+        let (face, indices) = self.face(dir, side);
+        let end = match side {
+            Side::Low => self.knots()[dir].first(),
+            Side::High => self.knots()[dir].last(),
+        };
+        let face_dirs: Vec<usize> = (0..dim).filter(|&d| d != dir).collect();
+        let rules = vec![GaussLegendre::new(n_gauss); dim - 1];
+        let (mut scratch, mut volume, mut trace) = (
+            TensorBasis::default(),
+            RationalBasis::default(),
+            RationalBasis::default(),
+        );
+        let mut out = Vec::with_capacity(face.n_elements());
+        for (fe, fel) in face.elements().iter().enumerate() {
+            let cell = self.volume_cell(fel.cell, dir, side);
+            let e = self
+                .basis
+                .element_of(cell)
+                .expect("a face element lies on an active volume element");
+            let el = &self.basis.elements()[e];
+            let (mut lo, mut hi) = (el.lower, el.upper);
+            lo[dir] = end;
+            hi[dir] = end;
+            let points = tensor_points(&face_dirs, lo, hi, &rules)
+                .into_iter()
+                .map(|(xi, wq)| {
+                    self.element_basis_into(e, &xi[..dim], 1, &mut scratch, &mut volume);
+                    let fxi: Vec<f64> = face_dirs.iter().map(|&d| xi[d]).collect();
+                    face.element_basis_into(fe, &fxi, 0, &mut scratch, &mut trace);
+                    face_point(
+                        dim,
+                        (dir, side),
+                        xi,
+                        wq,
+                        &volume,
+                        &self.points,
+                        trace.values.clone(),
+                    )
+                })
+                .collect();
+            out.push(FaceElementQuadrature {
+                conn: fel.functions.iter().map(|&a| indices[a]).collect(),
+                points,
+            });
+        }
+        out
+    }
+}
