@@ -20,15 +20,18 @@
 //! `γθ^I = ⟨N^I ϑc⟩/A^I` and `h0^I`, the flux *into* the slave.
 
 use std::collections::BTreeSet;
+use std::sync::Arc;
 
-use crate::basis::bspline::basis_ders;
+use crate::basis::{RationalBasis, TensorBasis};
 use crate::contact::kinematics::{Derivatives, Needs, PointGeometry, differentiate};
-use crate::contact::projection::{MasterSamples, Projection, project, project_on_span};
+use crate::contact::projection::{
+    MasterCurve, MasterSamples, Projection, project, project_on_element,
+};
 use crate::contact::segments::{Breakpoint, Segmenter};
 use crate::contact::{
     ContactSettings, Integration, ThermalContact, ThermalEnforcement, ThermalMethod,
 };
-use crate::geometry::{NurbsPatch, Side, ThbPatch};
+use crate::geometry::{Side, ThbPatch};
 use crate::solve::dofs::DofMap;
 use crate::{Error, Result};
 
@@ -55,7 +58,7 @@ fn owner_of(p: &SlavePoint) -> usize {
 /// What one integration point sees in the current configuration.
 #[derive(Clone, Debug, Default)]
 pub struct PointState {
-    /// Master face node indices (into the master face nodes) of the span.
+    /// Master face node indices (into the master face nodes) of the element.
     pub master: Vec<usize>,
     /// The projection.
     pub projection: Projection,
@@ -86,7 +89,8 @@ pub struct ContactInterface {
     pub slave_nodes: Vec<usize>,
     /// Global node numbers of the master face control points.
     pub master_nodes: Vec<usize>,
-    master_face: NurbsPatch,
+    /// The master face (reference configuration).
+    master_face: Arc<ThbPatch>,
     master_ref: Vec<[f64; 3]>,
     slave_ref: Vec<[f64; 3]>,
     /// Integration points.
@@ -157,11 +161,6 @@ impl ContactInterface {
         let (mp, moff, mdir, mside) = master;
         let (slave_face, sidx) = sp.face(sdir, sside);
         let (master_face, midx) = mp.face(mdir, mside);
-        let unrefined = || {
-            Error::Geometry("contact between locally refined surfaces is not available yet".into())
-        };
-        let slave_face = slave_face.to_nurbs().ok_or_else(unrefined)?;
-        let master_face = master_face.to_nurbs().ok_or_else(unrefined)?;
         if master_face.param_dim() != 1 {
             return Err(Error::Geometry(
                 "contact is implemented for 2D bodies (curves)".into(),
@@ -209,13 +208,16 @@ impl ContactInterface {
         }
         // The master's outward normal: the tangent (increasing parameter) turned
         // counter-clockwise if the body lies to its right.
-        let mid = master_face.curve_derivatives(
-            0.5 * (master_face.knots()[0].first() + master_face.knots()[0].last()),
-            1,
-        );
         let fq = mp.face_quadrature(mdir, mside, 2);
-        let nrm = fq[fq.len() / 2].points[0].normal;
-        let ccw = [-mid[1][1], mid[1][0]];
+        let q = &fq[fq.len() / 2].points[0];
+        let nrm = q.normal;
+        let master_curve = MasterCurve {
+            face: &master_face,
+            points: master_face.control_points(),
+        };
+        let eta = q.xi[1 - mdir];
+        let tangent = master_curve.eval(master_curve.locate(eta), eta)[1];
+        let ccw = [-tangent[1], tangent[0]];
         let normal_sign = if ccw[0] * nrm[0] + ccw[1] * nrm[1] > 0.0 {
             1.0
         } else {
@@ -246,7 +248,7 @@ impl ContactInterface {
         Ok(ContactInterface {
             slave_ref: sidx.iter().map(|&i| sp.control_points()[i]).collect(),
             master_ref: midx.iter().map(|&i| mp.control_points()[i]).collect(),
-            master_face,
+            master_face: Arc::new(master_face),
             settings,
             slave_nodes,
             master_nodes,
@@ -278,23 +280,17 @@ impl ContactInterface {
     fn segment(
         &mut self,
         slave_cur: &[[f64; 3]],
-        curve: &NurbsPatch,
+        curve: &MasterCurve,
         samples: &MasterSamples,
     ) -> Result<()> {
         let Some(seg) = &self.segmenter else {
             return Ok(());
         };
-        let face = seg.face();
-        let current = NurbsPatch::new(
-            face.knots().to_vec(),
-            slave_cur.to_vec(),
-            face.weights().to_vec(),
-        )?;
         let period = self.period;
-        let (points, breakpoints) = seg.points(&current, |x| {
+        let (points, breakpoints) = seg.points(slave_cur, |x| {
             let pr = project(curve, x, None, period, samples)?;
             let image = period.map_or(0, |w| (pr.shift / w).round() as i64);
-            Ok((pr.span, image, pr.vertex))
+            Ok((pr.element, image, pr.vertex))
         })?;
         let mut node_points = vec![Vec::new(); self.slave_nodes.len()];
         for (id, p) in points.iter().enumerate() {
@@ -310,12 +306,12 @@ impl ContactInterface {
     }
 
     /// The [`BreakTerm`]s of the current breakpoints.
-    fn break_terms(&self, state: &[f64], curve: &NurbsPatch) -> Vec<BreakTerm> {
+    fn break_terms(&self, state: &[f64], curve: &MasterCurve) -> Vec<BreakTerm> {
         let Some(seg) = &self.segmenter else {
             return Vec::new();
         };
         let face = seg.face();
-        let mut basis = crate::basis::RationalBasis::default();
+        let (mut scratch, mut basis) = (TensorBasis::default(), RationalBasis::default());
         let mut out = Vec::new();
         for b in &self.breakpoints {
             let (l, r) = b.pieces;
@@ -323,7 +319,7 @@ impl ContactInterface {
                 // A corner on either side: the gap's gradient is continuous there.
                 continue;
             }
-            face.basis_in_spans(&[b.span], &[b.xi], 1, &mut basis);
+            face.element_basis_into(b.element, &[b.xi], 1, &mut scratch, &mut basis);
             let (mut x, mut dx, mut dx_ref) = ([0.0; 2], [0.0; 2], [0.0; 2]);
             for (a, &c) in basis.indices.iter().enumerate() {
                 let n = self.slave_nodes[c];
@@ -336,8 +332,8 @@ impl ContactInterface {
             }
             let shift = |piece: (usize, i64, bool)| self.period.map_or(0.0, |w| piece.1 as f64 * w);
             let (Some(pl), Some(pr)) = (
-                project_on_span(curve, x, l.0, shift(l)),
-                project_on_span(curve, x, r.0, shift(r)),
+                project_on_element(curve, x, l.0, shift(l)),
+                project_on_element(curve, x, r.0, shift(r)),
             ) else {
                 continue;
             };
@@ -416,11 +412,11 @@ impl ContactInterface {
         // they do not move (the thermal phase on a frozen configuration).
         let positions: Vec<[f64; 3]> = slave_cur.iter().chain(&master_cur).copied().collect();
         let resegment = self.segmenter.is_some() && positions != self.segmented_at;
-        let curve = NurbsPatch::new(
-            self.master_face.knots().to_vec(),
-            master_cur,
-            self.master_face.weights().to_vec(),
-        )?;
+        let face = Arc::clone(&self.master_face);
+        let curve = MasterCurve {
+            face: &face,
+            points: &master_cur,
+        };
         let mut previous = std::mem::take(&mut self.state);
         let samples = MasterSamples::new(&curve);
         if resegment {
@@ -458,9 +454,8 @@ impl ContactInterface {
         pr: Projection,
         needs: Needs,
     ) -> PointState {
-        let kv = &self.master_face.knots()[0];
-        let p = kv.degree();
-        let master: Vec<usize> = (pr.span - p..=pr.span).collect();
+        let p = self.master_face.knots()[0].degree();
+        let master = self.master_face.elements()[pr.element].functions.clone();
         let geo = PointGeometry {
             slave_basis: basis.to_vec(),
             slave_x: conn
@@ -475,7 +470,7 @@ impl ContactInterface {
                 .iter()
                 .map(|&j| self.master_face.weights()[j])
                 .collect(),
-            master_ders: basis_ders(kv, pr.span, pr.eta, p),
+            master_ders: self.master_face.curve_element_ders(pr.element, pr.eta, p),
             normal_sign: self.normal_sign,
             clamped: pr.clamped,
             vertex: pr.vertex,
@@ -516,7 +511,8 @@ impl ContactInterface {
     /// Whether the current projections stay within the coupling band of the
     /// pattern; if not, widens the band and returns `true` (pattern changed).
     pub fn update_band(&mut self) -> bool {
-        let n_m = self.master_nodes.len();
+        let n_el = self.master_face.n_elements() as i64;
+        let widen = self.master_face.knots()[0].degree() as i64 + 1;
         let mut changed = false;
         for i in 0..self.n_slave() {
             let mut need = BTreeSet::new();
@@ -527,16 +523,20 @@ impl ContactInterface {
             }
             if !need.is_subset(&self.band[i]) {
                 changed = true;
-                let (lo, hi) = (*need.first().unwrap(), *need.last().unwrap());
-                let p = self.master_face.knots()[0].degree();
-                let widen = p + 1;
-                for j in lo.saturating_sub(widen)..=(hi + widen).min(n_m - 1) {
-                    self.band[i].insert(j);
-                }
-                if self.period.is_some() {
-                    // Near the seam the images wrap around.
-                    for j in need {
-                        self.band[i].insert(j);
+                // The master elements the node's points see, and p + 1 elements
+                // on either side (across the seam for periodic masters).
+                let seen: BTreeSet<usize> = self.node_points[i]
+                    .iter()
+                    .map(|&q| self.state[q].projection.element)
+                    .collect();
+                for e in seen {
+                    for k in e as i64 - widen..=e as i64 + widen {
+                        let f = match self.period {
+                            Some(_) => k.rem_euclid(n_el),
+                            None if (0..n_el).contains(&k) => k,
+                            None => continue,
+                        };
+                        self.band[i].extend(&self.master_face.elements()[f as usize].functions);
                     }
                 }
             }

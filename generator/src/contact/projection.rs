@@ -1,8 +1,9 @@
-//! Closest-point projection of a slave point onto the master NURBS curve
-//! (spec §6): the minimum distance over candidate knot spans (those near the
-//! previous projection and near the closest samples of the curve, and their
+//! Closest-point projection of a slave point onto the master curve (spec §6),
+//! a THB (or NURBS) curve in the current configuration ([`MasterCurve`]): the
+//! minimum distance over candidate elements (those near the previous
+//! projection and near the closest samples of the curve, and their
 //! neighbours), each by Newton on `φ(η) = (x_s − x_m(η))·x_m'(η) = 0`
-//! clamped to the span; the periodic images of the master (PR conditions).
+//! clamped to the element; the periodic images of the master (PR conditions).
 //!
 //! Where the closest point is a C0 corner of the master (always the case
 //! between the segments of a degree-1 master, and at the seam of a periodic
@@ -12,18 +13,70 @@
 //! segments with a continuous normal (so Newton does not alternate between
 //! the two segments).
 
-use crate::basis::bspline::basis_ders_into;
-use crate::geometry::NurbsPatch;
+use crate::basis::{RationalBasis, TensorBasis};
+use crate::geometry::ThbPatch;
 use crate::{Error, Result};
+
+/// The master curve in the current configuration: the reference face patch (its
+/// mesh, basis and weights) with current control points. Its elements are
+/// ordered along the curve.
+#[derive(Clone, Copy, Debug)]
+pub struct MasterCurve<'a> {
+    /// The master face (reference configuration).
+    pub face: &'a ThbPatch,
+    /// Current control points, in the face's numbering.
+    pub points: &'a [[f64; 3]],
+}
+
+impl MasterCurve<'_> {
+    /// Number of elements.
+    pub fn n_elements(&self) -> usize {
+        self.face.n_elements()
+    }
+
+    /// Parameter interval of element `e`.
+    pub fn bounds(&self, e: usize) -> (f64, f64) {
+        let el = &self.face.elements()[e];
+        (el.lower[0], el.upper[0])
+    }
+
+    /// The element containing `eta`.
+    pub fn locate(&self, eta: f64) -> usize {
+        self.face.locate(&[eta])
+    }
+
+    /// The current point at `eta`.
+    pub fn point(&self, eta: f64) -> [f64; 3] {
+        let p = self.eval(self.locate(eta), eta)[0];
+        [p[0], p[1], 0.0]
+    }
+
+    /// Position and first two parametric derivatives of element `e`'s polynomial
+    /// (rational) piece at `eta` (one-sided at the element's ends).
+    pub fn eval(&self, e: usize, eta: f64) -> [[f64; 2]; 3] {
+        let mut t = TensorBasis::default();
+        let mut b = RationalBasis::default();
+        self.face.element_basis_into(e, &[eta], 2, &mut t, &mut b);
+        let mut out = [[0.0; 2]; 3];
+        for (a, &g) in b.indices.iter().enumerate() {
+            for c in 0..2 {
+                out[0][c] += b.values[a] * self.points[g][c];
+                out[1][c] += b.d1[a][0] * self.points[g][c];
+                out[2][c] += b.d2[a][0][0] * self.points[g][c];
+            }
+        }
+        out
+    }
+}
 
 /// Result of a projection.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Projection {
     /// Master curve parameter.
     pub eta: f64,
-    /// Knot span whose polynomial piece holds the projection (for a
-    /// projection at a knot, the side on which it is orthogonal).
-    pub span: usize,
+    /// Master element whose polynomial piece holds the projection (for a
+    /// projection at an element boundary, the side on which it is orthogonal).
+    pub element: usize,
     /// Shift `k·W` added to the master's x coordinates (periodic image).
     pub shift: f64,
     /// The projection stopped at an end of a non-periodic master.
@@ -34,47 +87,17 @@ pub struct Projection {
     pub distance: f64,
 }
 
-/// Position and first two parametric derivatives of the span's polynomial
-/// (rational) piece at `eta` (one-sided at the span's ends).
-fn span_eval(curve: &NurbsPatch, span: usize, eta: f64) -> [[f64; 2]; 3] {
-    let kv = &curve.knots()[0];
-    let p = kv.degree();
-    let mut ders = [0.0; 3 * 9];
-    let ders = &mut ders[..3 * (p + 1)];
-    basis_ders_into(kv, span, eta, 2, ders);
-    let (cp, w) = (curve.control_points(), curve.weights());
-    let mut a = [[0.0; 2]; 3];
-    let mut ws = [0.0; 3];
-    for j in 0..=p {
-        let i = span - p + j;
-        for k in 0..3 {
-            let n = ders[k * (p + 1) + j] * w[i];
-            ws[k] += n;
-            a[k][0] += n * cp[i][0];
-            a[k][1] += n * cp[i][1];
-        }
-    }
-    let mut out = [[0.0; 2]; 3];
-    for c in 0..2 {
-        out[0][c] = a[0][c] / ws[0];
-        out[1][c] = (a[1][c] - out[0][c] * ws[1]) / ws[0];
-        out[2][c] = (a[2][c] - 2.0 * out[1][c] * ws[1] - out[0][c] * ws[2]) / ws[0];
-    }
-    out
-}
-
 fn dist2(x: [f64; 2], c: [f64; 2]) -> f64 {
     (x[0] - c[0]).powi(2) + (x[1] - c[1]).powi(2)
 }
 
-/// Closest point of span `span` = `[a, b]` to `x`: Newton from `eta0` clamped
-/// to the span, compared with the span's ends. Returns `(η, distance²)`.
-fn span_minimum(curve: &NurbsPatch, span: usize, x: [f64; 2], eta0: f64) -> (f64, f64) {
-    let kv = &curve.knots()[0].knots();
-    let (a, b) = (kv[span], kv[span + 1]);
+/// Closest point of element `e` = `[a, b]` to `x`: Newton from `eta0` clamped
+/// to the element, compared with the element's ends. Returns `(η, distance²)`.
+fn element_minimum(curve: &MasterCurve, e: usize, x: [f64; 2], eta0: f64) -> (f64, f64) {
+    let (a, b) = curve.bounds(e);
     let mut eta = eta0.clamp(a, b);
     for _ in 0..40 {
-        let d = span_eval(curve, span, eta);
+        let d = curve.eval(e, eta);
         let r = [x[0] - d[0][0], x[1] - d[0][1]];
         let t2 = d[1][0] * d[1][0] + d[1][1] * d[1][1];
         let phi = r[0] * d[1][0] + r[1] * d[1][1];
@@ -88,30 +111,29 @@ fn span_minimum(curve: &NurbsPatch, span: usize, x: [f64; 2], eta0: f64) -> (f64
             break;
         }
     }
-    let mut best = (eta, dist2(x, span_eval(curve, span, eta)[0]));
-    for e in [a, b] {
-        let d = dist2(x, span_eval(curve, span, e)[0]);
+    let mut best = (eta, dist2(x, curve.eval(e, eta)[0]));
+    for end in [a, b] {
+        let d = dist2(x, curve.eval(e, end)[0]);
         if d < best.1 {
-            best = (e, d);
+            best = (end, d);
         }
     }
     best
 }
 
-/// The closest point of one knot span (image `shift`) to `x`, if it is an
-/// orthogonal projection inside the span.
-pub fn project_on_span(
-    curve: &NurbsPatch,
+/// The closest point of one element (image `shift`) to `x`, if it is an
+/// orthogonal projection inside the element.
+pub fn project_on_element(
+    curve: &MasterCurve,
     x: [f64; 2],
-    span: usize,
+    element: usize,
     shift: f64,
 ) -> Option<Projection> {
-    let knots = curve.knots()[0].knots();
-    let (a, b) = (knots[span], knots[span + 1]);
-    let (eta, d2) = span_minimum(curve, span, [x[0] - shift, x[1]], 0.5 * (a + b));
+    let (a, b) = curve.bounds(element);
+    let (eta, d2) = element_minimum(curve, element, [x[0] - shift, x[1]], 0.5 * (a + b));
     (eta > a && eta < b).then_some(Projection {
         eta,
-        span,
+        element,
         shift,
         clamped: false,
         vertex: false,
@@ -123,47 +145,40 @@ pub fn project_on_span(
 /// for the starting guesses of the projections (computed once per evaluation).
 pub struct MasterSamples {
     /// `(element index, η, point)`.
-    samples: Vec<(usize, f64, [f64; 3])>,
-    /// Knot span of each element.
-    spans: Vec<usize>,
+    samples: Vec<(usize, f64, [f64; 2])>,
 }
 
 impl MasterSamples {
     /// Samples `curve`.
-    pub fn new(curve: &NurbsPatch) -> Self {
-        let kv = &curve.knots()[0];
-        let spans = kv.element_spans();
+    pub fn new(curve: &MasterCurve) -> Self {
         let mut samples = Vec::new();
-        for (e, &s) in spans.iter().enumerate() {
-            let (a, b) = (kv.knots()[s], kv.knots()[s + 1]);
+        for e in 0..curve.n_elements() {
+            let (a, b) = curve.bounds(e);
             for t in 0..4 {
                 let eta = a + (b - a) * (t as f64 + 0.5) / 4.0;
-                samples.push((e, eta, curve.point(&[eta])));
+                samples.push((e, eta, curve.eval(e, eta)[0]));
             }
         }
-        MasterSamples { samples, spans }
+        MasterSamples { samples }
     }
 }
 
-/// Projects `x` onto `curve` (a 2D NURBS curve in the current configuration).
+/// Projects `x` onto `curve` (a 2D curve in the current configuration).
 /// `guess`: the parameter found at the previous evaluation, if any.
 /// `period`: the sample width when the master repeats periodically in x
 /// (`x_m(η) + k·W` is then the image `k`).
 pub fn project(
-    curve: &NurbsPatch,
+    curve: &MasterCurve,
     x: [f64; 2],
     guess: Option<f64>,
     period: Option<f64>,
     samples: &MasterSamples,
 ) -> Result<Projection> {
-    let kv = &curve.knots()[0];
-    let knots = kv.knots();
-    let spans = &samples.spans;
-    let m = spans.len();
+    let m = curve.n_elements();
     let shifts: Vec<f64> = match period {
         None => vec![0.0],
         Some(w) => {
-            let x0 = curve.point(&[kv.first()])[0];
+            let x0 = curve.eval(0, curve.bounds(0).0)[0][0];
             let k = ((x[0] - x0) / w).floor();
             vec![k * w, (k - 1.0) * w, (k + 1.0) * w]
         }
@@ -183,11 +198,9 @@ pub fn project(
     }
     let mut seeds: Vec<(usize, f64, f64)> = near.iter().map(|n| (n.1, n.2, n.3)).collect();
     if let Some(g) = guess {
-        let span = kv.find_span(g);
-        if let Some(e) = spans.iter().position(|&s| s == span) {
-            for &s in &shifts {
-                seeds.push((e, s, g));
-            }
+        let e = curve.locate(g);
+        for &s in &shifts {
+            seeds.push((e, s, g));
         }
     }
     let neighbour = |e: usize, s: f64, step: i64| -> Option<(usize, f64)> {
@@ -216,14 +229,13 @@ pub fn project(
     // The closest point over the candidates (ties keep the first found).
     let mut best: Option<(usize, f64, f64, f64)> = None;
     for &(e, s, start) in &candidates {
-        let span = spans[e];
-        let (a, b) = (knots[span], knots[span + 1]);
+        let (a, b) = curve.bounds(e);
         let eta0 = if start.is_finite() {
             start
         } else {
             0.5 * (a + b)
         };
-        let (eta, d2) = span_minimum(curve, span, [x[0] - s, x[1]], eta0);
+        let (eta, d2) = element_minimum(curve, e, [x[0] - s, x[1]], eta0);
         if best.is_none_or(|bb| d2 < bb.3 * (1.0 - 1e-13)) {
             best = Some((e, s, eta, d2));
         }
@@ -236,30 +248,30 @@ pub fn project(
     })?;
     let mut pr = Projection {
         eta,
-        span: spans[e],
+        element: e,
         shift,
         clamped: false,
         vertex: false,
         distance: d2.sqrt(),
     };
     let mut e = e;
-    // At an end of its span, the projection may continue into the next span
+    // At an end of its element, the projection may continue into the next one
     // (a candidate's neighbour not searched yet): follow it.
     for _ in 0..m {
-        match end_kind(curve, x, spans, e, period, &pr) {
+        match end_kind(curve, x, e, period, &pr) {
             End::Interior => {}
             End::Clamped => pr.clamped = true,
             End::Vertex => pr.vertex = true,
             End::Other(f, s, eta_other) => {
                 pr.eta = eta_other;
-                pr.span = spans[f];
+                pr.element = f;
                 pr.shift = s;
             }
             End::Descend(f, s, eta_other) => {
-                let (eta, d2) = span_minimum(curve, spans[f], [x[0] - s, x[1]], eta_other);
+                let (eta, d2) = element_minimum(curve, f, [x[0] - s, x[1]], eta_other);
                 pr = Projection {
                     eta,
-                    span: spans[f],
+                    element: f,
                     shift: s,
                     distance: d2.sqrt(),
                     ..pr
@@ -273,32 +285,30 @@ pub fn project(
     Ok(pr)
 }
 
-/// What a projection found by a span search is.
+/// What a projection found by an element search is.
 enum End {
-    /// Inside its span (or orthogonal at its end): a regular projection.
+    /// Inside its element (or orthogonal at its end): a regular projection.
     Interior,
     /// At an end of a non-periodic master.
     Clamped,
     /// At a corner, the point in its normal cone.
     Vertex,
-    /// Orthogonal at the knot on the other side's span `(element, shift, η)`.
+    /// Orthogonal at the element boundary on the other side's element `(element, shift, η)`.
     Other(usize, f64, f64),
-    /// The distance falls into the other side's span: search it from `η`.
+    /// The distance falls into the other side's element: search it from `η`.
     Descend(usize, f64, f64),
 }
 
-/// Classifies a projection at an end of its span `e`.
+/// Classifies a projection at an end of its element `e`.
 fn end_kind(
-    curve: &NurbsPatch,
+    curve: &MasterCurve,
     x: [f64; 2],
-    spans: &[usize],
     e: usize,
     period: Option<f64>,
     pr: &Projection,
 ) -> End {
-    let knots = curve.knots()[0].knots();
-    let m = spans.len();
-    let (a, b) = (knots[spans[e]], knots[spans[e] + 1]);
+    let m = curve.n_elements();
+    let (a, b) = curve.bounds(e);
     let at_start = pr.eta == a;
     if !at_start && pr.eta != b {
         return End::Interior;
@@ -307,17 +317,17 @@ fn end_kind(
     let other = match (at_start, period) {
         (true, _) if e > 0 => Some((e - 1, pr.shift, a)),
         (false, _) if e + 1 < m => Some((e + 1, pr.shift, b)),
-        (true, Some(w)) => Some((m - 1, pr.shift - w, knots[spans[m - 1] + 1])),
-        (false, Some(w)) => Some((0, pr.shift + w, knots[spans[0]])),
+        (true, Some(w)) => Some((m - 1, pr.shift - w, curve.bounds(m - 1).1)),
+        (false, Some(w)) => Some((0, pr.shift + w, curve.bounds(0).0)),
         _ => None,
     };
     let Some((f, s_other, eta_other)) = other else {
         return End::Clamped;
     };
-    let here = span_eval(curve, spans[e], pr.eta);
+    let here = curve.eval(e, pr.eta);
     let r = [x[0] - pr.shift - here[0][0], x[1] - here[0][1]];
     let rn = r[0].hypot(r[1]);
-    let there = span_eval(curve, spans[f], eta_other);
+    let there = curve.eval(f, eta_other);
     // Cosines of the angles between the vector to the point and the tangent
     // (along increasing η) on this side and on the other side of the knot.
     let cosine = |t: [f64; 2]| (r[0] * t[0] + r[1] * t[1]) / (rn * t[0].hypot(t[1]));
@@ -330,7 +340,7 @@ fn end_kind(
     if c_there.abs() <= tol {
         return End::Other(f, s_other, eta_other);
     }
-    // Entering the other span (backward from the start, forward from the
+    // Entering the other element (backward from the start, forward from the
     // end) shortens the distance if the point lies ahead along its tangent.
     let descends = if at_start {
         c_there < 0.0
@@ -346,23 +356,39 @@ fn end_kind(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::shapes;
+    use crate::geometry::{NurbsPatch, shapes};
+
+    fn curve(c: &ThbPatch) -> MasterCurve<'_> {
+        MasterCurve {
+            face: c,
+            points: c.control_points(),
+        }
+    }
 
     #[test]
     fn projects_onto_a_circle_exactly() {
-        let c = shapes::circular_arc([0.0, 0.0, 0.0], 2.0, 0.0, std::f64::consts::FRAC_PI_2);
+        let c = ThbPatch::from(&shapes::circular_arc(
+            [0.0, 0.0, 0.0],
+            2.0,
+            0.0,
+            std::f64::consts::FRAC_PI_2,
+        ));
+        let c = curve(&c);
         let x = [3.0 * 0.6, 3.0 * 0.8];
         let p = project(&c, x, None, None, &MasterSamples::new(&c)).unwrap();
         assert!((p.distance - 1.0).abs() < 1e-12);
-        let y = c.point(&[p.eta]);
+        let y = c.point(p.eta);
         assert!((y[0] - 1.2).abs() < 1e-12 && (y[1] - 1.6).abs() < 1e-12);
     }
 
     #[test]
     fn clamps_beyond_the_end_and_wraps_periodic_images() {
-        let line = shapes::rectangle(0.0, 1.0, 0.0, 1.0)
-            .face(1, crate::geometry::Side::Low)
-            .0;
+        let line = ThbPatch::from(
+            &shapes::rectangle(0.0, 1.0, 0.0, 1.0)
+                .face(1, crate::geometry::Side::Low)
+                .0,
+        );
+        let line = curve(&line);
         let s = MasterSamples::new(&line);
         let p = project(&line, [1.3, 0.2], None, None, &s).unwrap();
         assert!(p.clamped && (p.eta - 1.0).abs() < 1e-15);
@@ -372,26 +398,29 @@ mod tests {
     }
 
     /// A degree-1 "Λ" polyline (0,0)–(1,1)–(2,0).
-    fn roof() -> NurbsPatch {
+    fn roof() -> ThbPatch {
         let kv = crate::geometry::KnotVector::new(1, vec![0.0, 0.0, 0.5, 1.0, 1.0]).unwrap();
-        NurbsPatch::new(
-            vec![kv],
-            vec![[0.0, 0.0, 0.0], [1.0, 1.0, 0.0], [2.0, 0.0, 0.0]],
-            vec![1.0; 3],
+        ThbPatch::from(
+            &NurbsPatch::new(
+                vec![kv],
+                vec![[0.0, 0.0, 0.0], [1.0, 1.0, 0.0], [2.0, 0.0, 0.0]],
+                vec![1.0; 3],
+            )
+            .unwrap(),
         )
-        .unwrap()
     }
 
     #[test]
     fn a_point_in_the_normal_cone_of_a_corner_projects_onto_the_corner() {
         let c = roof();
+        let c = curve(&c);
         let s = MasterSamples::new(&c);
         let p = project(&c, [1.0, 2.0], None, None, &s).unwrap();
         assert!(p.vertex && !p.clamped);
         assert!((p.eta - 0.5).abs() < 1e-15 && (p.distance - 1.0).abs() < 1e-14);
         // Beside the corner: the orthogonal projection onto a segment.
         let q = project(&c, [0.5, 1.0], Some(0.9), None, &s).unwrap();
-        assert!(!q.vertex && !q.clamped && q.span == 1);
+        assert!(!q.vertex && !q.clamped && q.element == 0);
         assert!((q.eta - 0.375).abs() < 1e-14, "{q:?}");
         assert!((q.distance - 0.125f64.sqrt()).abs() < 1e-14);
     }
@@ -401,10 +430,9 @@ mod tests {
         // The roof and its periodic images (period 2): distance against a
         // dense sampling, from every kind of starting guess.
         let c = roof();
+        let c = curve(&c);
         let s = MasterSamples::new(&c);
-        let dense: Vec<[f64; 3]> = (0..=20000)
-            .map(|k| c.point(&[k as f64 / 20000.0]))
-            .collect();
+        let dense: Vec<[f64; 3]> = (0..=20000).map(|k| c.point(k as f64 / 20000.0)).collect();
         let mut seed = 3u64;
         let mut rnd = || {
             seed = seed
@@ -435,7 +463,7 @@ mod tests {
                     "{x:?} {period:?}: {} vs {brute}",
                     p.distance
                 );
-                let y = c.point(&[p.eta]);
+                let y = c.point(p.eta);
                 let d = (x[0] - y[0] - p.shift).hypot(x[1] - y[1]);
                 assert!((d - p.distance).abs() < 1e-12);
             }

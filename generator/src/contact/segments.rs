@@ -1,7 +1,7 @@
 //! Segment-based integration of the mortar integrals (spec §6, the exact
 //! alternative to element-based integration): every slave element is split
 //! where the projection of its points passes from one master piece to the
-//! next (a knot span of the master, a corner of it, a periodic image), and
+//! next (an element of the master, a corner of it, a periodic image), and
 //! each segment gets its own Gauss rule.
 //!
 //! Within a segment the gap and the jump are smooth, so the integrals (4.8)
@@ -17,20 +17,20 @@
 //! which vanishes for a smooth master.
 
 use crate::Result;
-use crate::basis::RationalBasis;
+use crate::basis::{RationalBasis, TensorBasis};
 use crate::contact::mortar::SlavePoint;
-use crate::geometry::NurbsPatch;
+use crate::geometry::ThbPatch;
 use crate::quadrature::GaussLegendre;
 
-/// Which master piece a slave point projects onto: `(span, periodic image, corner)`.
+/// Which master piece a slave point projects onto: `(element, periodic image, corner)`.
 pub type Piece = (usize, i64, bool);
 
 /// A point where the projection passes from one master piece to another
 /// inside a slave element.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Breakpoint {
-    /// Knot span of the slave face element.
-    pub span: usize,
+    /// Slave face element.
+    pub element: usize,
     /// Slave face parameter.
     pub xi: f64,
     /// The pieces before and after it.
@@ -43,7 +43,7 @@ const BREAK_TOLERANCE: f64 = 1e-13;
 /// The reference slave face and the rule applied to every segment.
 #[derive(Clone, Debug)]
 pub struct Segmenter {
-    face: NurbsPatch,
+    face: ThbPatch,
     rule: GaussLegendre,
     /// Samples per element at which the pieces are first looked up.
     samples: usize,
@@ -53,7 +53,7 @@ impl Segmenter {
     /// Segments of `face` (the slave face curve, reference configuration,
     /// control points in the order of the interface's slave nodes) with
     /// `n_gauss` points each.
-    pub fn new(face: NurbsPatch, n_gauss: usize) -> Self {
+    pub fn new(face: ThbPatch, n_gauss: usize) -> Self {
         Segmenter {
             face,
             rule: GaussLegendre::new(n_gauss),
@@ -62,28 +62,28 @@ impl Segmenter {
     }
 
     /// The face curve.
-    pub fn face(&self) -> &NurbsPatch {
+    pub fn face(&self) -> &ThbPatch {
         &self.face
     }
 
     /// Integration points of the current configuration, and the breakpoints
-    /// inside the slave elements. `current` is the face with its current
-    /// control points; `piece(x)` says which master piece the current point
-    /// `x` projects onto.
+    /// inside the slave elements. `current`: the face's current control
+    /// points; `piece(x)` says which master piece the current point `x`
+    /// projects onto.
     pub fn points(
         &self,
-        current: &NurbsPatch,
+        current: &[[f64; 3]],
         mut piece: impl FnMut([f64; 2]) -> Result<Piece>,
     ) -> Result<(Vec<SlavePoint>, Vec<Breakpoint>)> {
-        let kv = &self.face.knots()[0];
         let mut out = Vec::new();
         let mut found = Vec::new();
-        let mut basis = RationalBasis::default();
-        for (e, &span) in kv.element_spans().iter().enumerate() {
-            let (a, b) = (kv.knots()[span], kv.knots()[span + 1]);
+        let (mut scratch, mut basis) = (TensorBasis::default(), RationalBasis::default());
+        for (e, el) in self.face.elements().iter().enumerate() {
+            let (a, b) = (el.lower[0], el.upper[0]);
             let mut at = |xi: f64| -> Result<Piece> {
-                current.basis_in_spans(&[span], &[xi], 0, &mut basis);
-                let cp = current.control_points();
+                self.face
+                    .element_basis_into(e, &[xi], 0, &mut scratch, &mut basis);
+                let cp = current;
                 let mut x = [0.0; 2];
                 for (&g, &n) in basis.indices.iter().zip(&basis.values) {
                     x[0] += n * cp[g][0];
@@ -103,17 +103,18 @@ impl Segmenter {
             let mut breaks = vec![a];
             breaks.extend(inner.iter().map(|&(xi, _)| xi));
             breaks.push(b);
-            found.extend(
-                inner
-                    .into_iter()
-                    .map(|(xi, pieces)| Breakpoint { span, xi, pieces }),
-            );
+            found.extend(inner.into_iter().map(|(xi, pieces)| Breakpoint {
+                element: e,
+                xi,
+                pieces,
+            }));
             for w in breaks.windows(2) {
                 if w[1] - w[0] <= (b - a) * BREAK_TOLERANCE {
                     continue;
                 }
                 for (xi, wq) in self.rule.on_interval(w[0], w[1]) {
-                    self.face.basis_in_spans(&[span], &[xi], 1, &mut basis);
+                    self.face
+                        .element_basis_into(e, &[xi], 1, &mut scratch, &mut basis);
                     let cp = self.face.control_points();
                     let mut t = [0.0; 2];
                     for (&g, d) in basis.indices.iter().zip(&basis.d1) {
@@ -157,15 +158,17 @@ fn bisect(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{Side, shapes};
+    use crate::geometry::{Side, ThbPatch, shapes};
 
     #[test]
     fn segments_split_at_the_pieces_and_integrate_the_length() {
-        let face = shapes::rectangle(0.0, 2.0, 0.0, 1.0).face(1, Side::Low).0;
+        let face = ThbPatch::from(&shapes::rectangle(0.0, 2.0, 0.0, 1.0).face(1, Side::Low).0);
         let seg = Segmenter::new(face.clone(), 3);
         // Pieces of width 0.3 in x: breakpoints at 0.3, 0.6, ...
         let (pts, breaks) = seg
-            .points(&face, |x| Ok(((x[0] / 0.3).floor() as usize, 0, false)))
+            .points(face.control_points(), |x| {
+                Ok(((x[0] / 0.3).floor() as usize, 0, false))
+            })
             .unwrap();
         assert_eq!(breaks.len(), 6);
         for (k, b) in breaks.iter().enumerate() {

@@ -105,6 +105,9 @@ pub struct SurfaceSection {
     pub lower: SurfaceSpec,
 }
 
+/// The most levels of local refinement (elements `2^-12` of the coarse ones).
+pub const MAX_LEVELS: usize = 12;
+
 /// `[discretization]`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -117,6 +120,10 @@ pub struct DiscretizationSection {
     pub elements_lower: [usize; 2],
     /// Bulk Gauss points per direction (default `p + 2`).
     pub bulk_points: Option<usize>,
+    /// Levels of local (THB) refinement towards the contact interface: the
+    /// elements touching the rough surface are halved this many times, the mesh
+    /// graded through the height (admissible of class 2). 0: the tensor mesh.
+    pub interface_levels: usize,
 }
 
 impl Default for DiscretizationSection {
@@ -126,6 +133,7 @@ impl Default for DiscretizationSection {
             elements_upper: [32, 16],
             elements_lower: [27, 14],
             bulk_points: None,
+            interface_levels: 0,
         }
     }
 }
@@ -355,6 +363,13 @@ impl Case {
                 "discretization.bulk_points",
                 n,
                 "an integer in 1..=16",
+            ));
+        }
+        if d.interface_levels > MAX_LEVELS {
+            return Err(Error::invalid(
+                "discretization.interface_levels",
+                d.interface_levels,
+                format!("an integer in 0..={MAX_LEVELS}"),
             ));
         }
         self.contact.validate()?;

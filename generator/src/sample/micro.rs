@@ -8,7 +8,9 @@
 //! prescribed temperature, the slave's external face under `h̄`.
 
 use crate::bulk::Coupling;
-use crate::geometry::{FitMethod, RoughFace, Side, SurfaceFit, fit_height_function, rough_block};
+use crate::geometry::{
+    FitMethod, NurbsPatch, RoughFace, Side, SurfaceFit, ThbPatch, fit_height_function, rough_block,
+};
 use crate::material::Material;
 use crate::sample::case::{Case, LateralCondition, MasterBody, TopLateral};
 use crate::solve::{Model, ModelBuilder, NonlinearProblem, Scales};
@@ -129,12 +131,15 @@ pub fn build_model(
         d.degree,
         d.elements_upper[1],
     );
+    let periodic = case.sample.lateral == LateralCondition::Periodic;
+    let lower_patch = interface_refined(&lower_patch, Side::High, d.interface_levels, periodic);
+    let upper_patch = interface_refined(&upper_patch, Side::Low, d.interface_levels, periodic);
     let mut mb = ModelBuilder::new(2, Scales::new(w, materials.1));
     if let Some(n) = d.bulk_points {
         mb = mb.bulk_points(n);
     }
-    let lo = mb.add_body("lower", &lower_patch, materials.1)?;
-    let up = mb.add_body("upper", &upper_patch, materials.0)?;
+    let lo = mb.add_body("lower", lower_patch, materials.1)?;
+    let up = mb.add_body("upper", upper_patch, materials.0)?;
     debug_assert_eq!((lo, up), (LOWER, UPPER));
     // Mechanics (Fig. 5): bottom fixed, platen on top.
     mb.fix_face(lo, 1, Side::Low, 0, 0.0);
@@ -192,6 +197,26 @@ pub fn build_model(
     }
     model.touch(UPPER, 1)?;
     Ok(model)
+}
+
+/// The THB patch of a body refined `levels` times at its rough face (`side` of
+/// the direction through the height), the mesh graded through the height.
+/// Periodic (PR) bodies keep their lateral cell layers alike, so that their
+/// periodic ties pair the two faces' functions one to one.
+pub fn interface_refined(
+    patch: &NurbsPatch,
+    side: Side,
+    levels: usize,
+    periodic: bool,
+) -> ThbPatch {
+    let normal = patch.param_dim() - 1;
+    let mut thb = ThbPatch::from_nurbs(patch);
+    if periodic {
+        for d in 0..normal {
+            thb = thb.periodic(d);
+        }
+    }
+    thb.refined_at_face(normal, side, levels)
 }
 
 /// The first-touch offset `g0(s) = max_x (f2(x) − f1(x − s))` (m) of the

@@ -107,6 +107,30 @@ impl ThbPatch {
         self.with_mesh(mesh)
     }
 
+    /// A copy whose parametric direction `d` is periodic: the first and last cell layers
+    /// are refined alike (see [`HierarchicalMesh::set_periodic`]), so the traces on the two
+    /// opposite faces match one to one (periodic ties).
+    pub fn periodic(&self, d: usize) -> ThbPatch {
+        let mut mesh = self.mesh.clone();
+        mesh.set_periodic(d);
+        self.with_mesh(mesh)
+    }
+
+    /// A copy refined `levels` times at the face where direction `dir` is at its `side`
+    /// end: each round halves the elements touching the face; admissibility grades the
+    /// mesh away from it.
+    pub fn refined_at_face(&self, dir: usize, side: Side, levels: usize) -> ThbPatch {
+        let mut mesh = self.mesh.clone();
+        let kv = &self.knots()[dir];
+        for _ in 0..levels {
+            mesh.refine_where(|_, lo, hi| match side {
+                Side::Low => lo[dir] <= kv.first(),
+                Side::High => hi[dir] >= kv.last(),
+            });
+        }
+        self.with_mesh(mesh)
+    }
+
     /// The coefficients in the space of the refinement `to` of a field with `n_comp`
     /// components per function (function-major) in this patch's space: exact (nested
     /// spaces; the rational basis is handled through the weights).
@@ -252,6 +276,30 @@ impl ThbPatch {
             }
             if n_ders >= 2 {
                 out.d2.push(h);
+            }
+        }
+    }
+
+    /// For curves: `ders[k][a]`, the `k`-th parametric derivative (`k = 0..=n`) at `u` of
+    /// the polynomial THB function `a` of element `e` (in the order of its `functions`),
+    /// from the element's polynomial piece (derivatives above the degree are 0).
+    #[track_caller]
+    pub fn curve_element_ders(&self, e: usize, u: f64, n: usize) -> Vec<Vec<f64>> {
+        assert_eq!(self.param_dim(), 1, "curve_element_ders: only for curves");
+        let el = &self.basis.elements()[e];
+        let kv = &self.mesh.level(el.cell.level).knots[0];
+        let ders = crate::basis::basis_ders(kv, el.spans[0], u, n);
+        match &el.extraction {
+            None => ders,
+            Some(c) => {
+                let n_local = kv.degree() + 1;
+                ders.iter()
+                    .map(|row| {
+                        c.chunks(n_local)
+                            .map(|ca| ca.iter().zip(row).map(|(x, y)| x * y).sum())
+                            .collect()
+                    })
+                    .collect()
             }
         }
     }

@@ -28,8 +28,9 @@ use crate::bulk::Coupling;
 use crate::contact::{
     ContactSettings, Integration, ThermalContact, ThermalEnforcement, ThermalMethod,
 };
-use crate::geometry::{KnotVector, NurbsPatch, Side, shapes};
+use crate::geometry::{KnotVector, NurbsPatch, Side, ThbPatch, shapes};
 use crate::material::Material;
+use crate::sample::micro::interface_refined;
 use crate::solve::{LoadStepping, ModelBuilder, Newton, NewtonSettings, Scales};
 
 /// The three control points of a degree-2 curve with one span.
@@ -56,6 +57,8 @@ pub struct Refinement {
     pub degree_y: usize,
     /// Elements through the height.
     pub elements_y: usize,
+    /// Levels of local (THB) refinement at the interface (0: the tensor mesh).
+    pub interface_levels: usize,
 }
 
 /// The patch-test geometry and discretizations.
@@ -91,12 +94,14 @@ impl PatchSetup {
                 elements: 3,
                 degree_y: 2,
                 elements_y: 3,
+                interface_levels: 0,
             },
             upper: Refinement {
                 degree: 3,
                 elements: 4,
                 degree_y: 1,
                 elements_y: 4,
+                interface_levels: 0,
             },
             bulk_points: None,
         }
@@ -161,6 +166,16 @@ impl PatchSetup {
         )
     }
 
+    /// The (lower, upper) bodies as analysed: [`Self::patches`] with their
+    /// interface refinement ([`Refinement::interface_levels`]).
+    pub fn bodies(&self) -> (ThbPatch, ThbPatch) {
+        let (lower, upper) = self.patches();
+        (
+            interface_refined(&lower, Side::High, self.lower.interface_levels, false),
+            interface_refined(&upper, Side::Low, self.upper.interface_levels, false),
+        )
+    }
+
     /// Table I with a constant conductivity.
     pub fn material() -> Material {
         Material {
@@ -205,13 +220,13 @@ pub fn thermal_patch(
     flux: f64,
 ) -> Result<ThermalPatch> {
     let m = PatchSetup::material();
-    let (lower, upper) = setup.patches();
+    let (lower, upper) = setup.bodies();
     let mut b = ModelBuilder::new(2, Scales::new(setup.width, &m));
     if let Some(n) = setup.bulk_points {
         b = b.bulk_points(n);
     }
-    let lo = b.add_body("lower", &lower, &m)?;
-    let up = b.add_body("upper", &upper, &m)?;
+    let lo = b.add_body("lower", lower, &m)?;
+    let up = b.add_body("upper", upper, &m)?;
     let theta0 = m.reference_temperature;
     b.fix_face(lo, 1, Side::Low, 2, theta0);
     b.flux(up, 1, Side::High, flux);
@@ -333,10 +348,10 @@ pub fn mechanical_patch(
     integration: Integration,
 ) -> Result<MechanicalPatch> {
     let m = PatchSetup::material();
-    let (lower, upper) = setup.patches();
+    let (lower, upper) = setup.bodies();
     let mut b = ModelBuilder::new(2, Scales::new(setup.width, &m));
-    let lo = b.add_body("lower", &lower, &m)?;
-    let up = b.add_body("upper", &upper, &m)?;
+    let lo = b.add_body("lower", lower, &m)?;
+    let up = b.add_body("upper", upper, &m)?;
     b.fix_face(lo, 1, Side::Low, 0, 0.0);
     b.fix_face(lo, 1, Side::Low, 1, 0.0);
     b.linear_lateral(lo, 0, 0);

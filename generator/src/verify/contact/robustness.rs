@@ -53,7 +53,7 @@ pub fn sinusoid_case(
             degree,
             elements_upper,
             elements_lower,
-            bulk_points: None,
+            ..DiscretizationSection::default()
         },
         contact: ContactSettings::default(),
         load: LoadSection {
