@@ -222,19 +222,65 @@ pub fn temperature_jump<D: DualNum<Primitive = f64>>(g: &PointGeometry, z: &[D])
     ths - m.theta
 }
 
-/// Value, gradient and Hessian (row-major `n × n`) of a kinematic quantity
-/// with respect to the local unknowns `(ux, uy, θ)` per slave, then per
-/// master control point. An empty gradient or Hessian means "not asked for";
-/// an empty Hessian with a gradient means that it is zero in the unknowns
-/// of the phase.
+/// Value, gradient and Hessian of a kinematic quantity with respect to the
+/// local unknowns (`(ux, uy, θ)` in 2D, `(ux, uy, uz, θ)` in 3D, per slave,
+/// then per master control point). The Hessian is `hess` (row-major `n × n`,
+/// or empty) plus the low-rank part `Σ u vᵀ` over `factors` (3D: a few
+/// outer products instead of `n²` numbers per point). An empty gradient
+/// means "not asked for"; a gradient without any Hessian part means that the
+/// Hessian is zero in the unknowns of the phase.
 #[derive(Clone, Debug, Default)]
 pub struct Derivatives {
     /// Value.
     pub value: f64,
     /// Gradient with respect to the local unknowns.
     pub grad: Vec<f64>,
-    /// Hessian (row-major).
+    /// Dense part of the Hessian (row-major).
     pub hess: Vec<f64>,
+    /// Low-rank part of the Hessian: `Σ u vᵀ` (the sum is symmetric).
+    pub factors: Vec<(Vec<f64>, Vec<f64>)>,
+}
+
+impl Derivatives {
+    /// Adds `w` times the Hessian to the row-major `nd × nd` matrix `out`,
+    /// local unknown `a` going to `map[a]` (`None`: dropped).
+    pub fn add_hessian(&self, w: f64, map: &[Option<usize>], nd: usize, out: &mut [f64]) {
+        let m = map.len();
+        if !self.hess.is_empty() {
+            for (a, ia) in map.iter().enumerate() {
+                let Some(ia) = *ia else { continue };
+                for (b, ib) in map.iter().enumerate() {
+                    let Some(ib) = *ib else { continue };
+                    out[ia * nd + ib] += w * self.hess[a * m + b];
+                }
+            }
+        }
+        for (u, v) in &self.factors {
+            for (a, ia) in map.iter().enumerate() {
+                let (Some(ia), ua) = (*ia, u[a]) else {
+                    continue;
+                };
+                if ua == 0.0 {
+                    continue;
+                }
+                let row = &mut out[ia * nd..(ia + 1) * nd];
+                for (b, ib) in map.iter().enumerate() {
+                    if let Some(ib) = *ib {
+                        row[ib] += w * ua * v[b];
+                    }
+                }
+            }
+        }
+    }
+
+    /// The Hessian as a dense row-major matrix (tests, small sizes).
+    pub fn dense_hessian(&self) -> Vec<f64> {
+        let n = self.grad.len();
+        let map: Vec<Option<usize>> = (0..n).map(Some).collect();
+        let mut out = vec![0.0; n * n];
+        self.add_hessian(1.0, &map, n, &mut out);
+        out
+    }
 }
 
 /// Which derivatives of gap and jump the current phase needs (spec §6).
@@ -336,6 +382,7 @@ fn scatter(n: usize, (v, grad, hess): &(f64, Vec<f64>, Vec<f64>)) -> Derivatives
         value: *v,
         grad: vec![0.0; n],
         hess: vec![0.0; n * n],
+        ..Derivatives::default()
     };
     for k in 0..m {
         d.grad[u_index(k)] = grad[k];
@@ -372,7 +419,7 @@ pub fn differentiate(g: &PointGeometry, z: &[f64], needs: Needs) -> (Derivatives
             let jump = Derivatives {
                 value: jump_value(g, z, &r),
                 grad: jump_temperature_gradient(g, n, &r),
-                hess: Vec::new(),
+                ..Derivatives::default()
             };
             (value_only(gap), jump)
         }
@@ -433,6 +480,7 @@ fn gap_second_variation(
         value: gap,
         grad: vec![0.0; n],
         hess: vec![0.0; n * n],
+        ..Derivatives::default()
     };
     if g.vertex {
         let rv = [xs[0] - m.x[0], xs[1] - m.x[1]];
@@ -488,8 +536,7 @@ fn gap_second_variation(
 fn value_only(value: f64) -> Derivatives {
     Derivatives {
         value,
-        grad: Vec::new(),
-        hess: Vec::new(),
+        ..Derivatives::default()
     }
 }
 
@@ -536,6 +583,7 @@ fn jump_derivatives(
         value: jump_value(g, z, &r),
         grad: jump_temperature_gradient(g, n, &r),
         hess: vec![0.0; n * n],
+        ..Derivatives::default()
     };
     for k in 0..m {
         let ik = u_index(k);
@@ -611,6 +659,7 @@ mod tests {
             value: v,
             grad: gr.as_slice().to_vec(),
             hess: h.as_slice().to_vec(),
+            ..Derivatives::default()
         }
     }
 

@@ -1,7 +1,10 @@
 //! Mortar-based frictionless mechanical and thermal contact (paper Sect. 4, spec §6).
 //!
-//! - [`projection`]: closest-point projection onto the master, periodic images;
-//! - [`kinematics`]: gap and temperature jump with exact AD derivatives;
+//! - [`projection`]: closest-point projection onto the master curve (2D), periodic images;
+//! - [`projection3d`]: closest-point projection onto the master surface (3D),
+//!   periodic images in x and y, C0 edges and vertices;
+//! - [`kinematics`]: gap and temperature jump with exact AD derivatives (2D);
+//! - [`kinematics3d`]: the same on master surfaces (3D), closed-form derivatives;
 //! - [`mortar`]: lumped mortar integrals (4.8), augmented Lagrangian (4.9)–(4.10),
 //!   constitutive thermal contact, continuum option;
 //! - [`segments`]: segment-based integration of the mortar integrals.
@@ -11,11 +14,27 @@ use serde::{Deserialize, Serialize};
 use crate::{Error, Result};
 
 pub mod kinematics;
+pub mod kinematics3d;
 pub mod mortar;
 pub mod projection;
+pub mod projection3d;
 pub mod segments;
 
 pub use mortar::{ContactInterface, Unknowns};
+
+#[cfg(test)]
+pub(crate) mod testing {
+    /// A deterministic pseudo-random number generator on [0, 1) (LCG).
+    pub fn rng(seed: u64) -> impl FnMut() -> f64 {
+        let mut s = seed;
+        move || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+}
 
 /// Thermal contact model: the dissipation potential `H(ϑc, pN)` of (4.2).
 #[derive(Clone, Debug, PartialEq)]

@@ -304,6 +304,41 @@ impl ThbPatch {
         }
     }
 
+    /// For surfaces: `ders[k1 (n + 1) + k2][a]`, the derivative `∂^(k1+k2) / ∂u^k1 ∂v^k2`
+    /// (`k1, k2 = 0..=n`) at `u` of the polynomial THB function `a` of element `e` (in the
+    /// order of its `functions`), from the element's polynomial piece. With `n` at least the
+    /// degrees, the table is the function's exact bivariate Taylor expansion about `u`.
+    #[track_caller]
+    pub fn surface_element_ders(&self, e: usize, u: [f64; 2], n: usize) -> Vec<Vec<f64>> {
+        assert_eq!(
+            self.param_dim(),
+            2,
+            "surface_element_ders: only for surfaces"
+        );
+        let el = &self.basis.elements()[e];
+        let knots = &self.mesh.level(el.cell.level).knots;
+        let d0 = crate::basis::basis_ders(&knots[0], el.spans[0], u[0], n);
+        let d1 = crate::basis::basis_ders(&knots[1], el.spans[1], u[1], n);
+        let (p0, p1) = (knots[0].degree() + 1, knots[1].degree() + 1);
+        let mut out = Vec::with_capacity((n + 1) * (n + 1));
+        for k1 in 0..=n {
+            for k2 in 0..=n {
+                // Local tensor functions, first direction fastest.
+                let local: Vec<f64> = (0..p0 * p1)
+                    .map(|j| d0[k1][j % p0] * d1[k2][j / p0])
+                    .collect();
+                out.push(match &el.extraction {
+                    None => local,
+                    Some(c) => c
+                        .chunks(p0 * p1)
+                        .map(|ca| ca.iter().zip(&local).map(|(x, y)| x * y).sum())
+                        .collect(),
+                });
+            }
+        }
+        out
+    }
+
     /// [`Self::element_basis_into`] with fresh buffers.
     pub fn element_basis(&self, e: usize, xi: &[f64], n_ders: usize) -> RationalBasis {
         let mut out = RationalBasis::default();

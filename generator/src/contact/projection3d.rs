@@ -1,0 +1,704 @@
+//! Closest-point projection of a slave point onto the master surface in 3D
+//! (spec §6): the master face is a THB (or NURBS) surface in the current
+//! configuration ([`MasterSurface`]), possibly locally refined (elements of
+//! different sizes), and repeated periodically in x and y (PR conditions).
+//!
+//! The search ([`MasterSearch`]) bounds every element by the axis-aligned box
+//! of its control points (THB and NURBS functions are non-negative and sum to
+//! one on an element, so the element's surface lies in their convex hull):
+//! the distance to that box is a lower bound of the distance to the element.
+//! Elements (and periodic images) are minimized in the order of their bounds,
+//! starting with the previous projection's element, until the bound exceeds
+//! the best distance found; every element that could hold a closer point —
+//! in particular every element sharing the closest point — has been
+//! minimized. Each element minimization is a Newton iteration on
+//! `½|x − x_m(η)|²` over the element's parameter box (projected Newton:
+//! coordinates at a bound with the gradient pointing outward are held, the
+//! others take the Newton step, with backtracking).
+//!
+//! Where the closest point lies on an element boundary without being
+//! orthogonal there, it is a C0 feature of the master (degree 1 or repeated
+//! knots): an *edge* (one parameter held, the point in the edge's normal
+//! cone) or a *vertex* (both held). As in 2D, the gap is then the signed
+//! distance to the feature ([`SurfaceProjection::fixed`]). At a boundary of
+//! a non-periodic master the projection is *clamped* there.
+
+use crate::basis::{RationalBasis, TensorBasis};
+use crate::geometry::ThbPatch;
+use crate::{Error, Result};
+
+/// Position and parametric derivatives of the master surface at one point.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SurfacePoint {
+    /// Position `x_m(η)`.
+    pub x: [f64; 3],
+    /// Tangents `a_α = ∂x_m/∂η_α`.
+    pub a: [[f64; 3]; 2],
+    /// Second derivatives `a_αβ = ∂²x_m/∂η_α∂η_β`.
+    pub aa: [[[f64; 3]; 2]; 2],
+}
+
+/// The master surface in the current configuration: the reference face patch
+/// (its mesh, basis and weights) with current control points.
+#[derive(Clone, Copy, Debug)]
+pub struct MasterSurface<'a> {
+    /// The master face (reference configuration), two parametric directions.
+    pub face: &'a ThbPatch,
+    /// Current control points, in the face's numbering.
+    pub points: &'a [[f64; 3]],
+}
+
+/// Evaluates a [`MasterSurface`] with reused buffers.
+pub struct SurfaceEvaluator<'a> {
+    surface: MasterSurface<'a>,
+    scratch: TensorBasis,
+    basis: RationalBasis,
+}
+
+impl<'a> SurfaceEvaluator<'a> {
+    /// An evaluator of `surface`.
+    #[track_caller]
+    pub fn new(surface: MasterSurface<'a>) -> Self {
+        assert_eq!(
+            surface.face.param_dim(),
+            2,
+            "SurfaceEvaluator: the master face must be a surface"
+        );
+        SurfaceEvaluator {
+            surface,
+            scratch: TensorBasis::default(),
+            basis: RationalBasis::default(),
+        }
+    }
+
+    /// Position, tangents and second derivatives of element `e`'s polynomial
+    /// (rational) piece at `eta` (one-sided at the element's boundary).
+    pub fn at(&mut self, e: usize, eta: [f64; 2]) -> SurfacePoint {
+        self.surface
+            .face
+            .element_basis_into(e, &eta, 2, &mut self.scratch, &mut self.basis);
+        let b = &self.basis;
+        let mut s = SurfacePoint::default();
+        for (k, &g) in b.indices.iter().enumerate() {
+            let p = self.surface.points[g];
+            for c in 0..3 {
+                s.x[c] += b.values[k] * p[c];
+                for i in 0..2 {
+                    s.a[i][c] += b.d1[k][i] * p[c];
+                    for l in 0..2 {
+                        s.aa[i][l][c] += b.d2[k][i][l] * p[c];
+                    }
+                }
+            }
+        }
+        s
+    }
+}
+
+impl MasterSurface<'_> {
+    /// Number of elements.
+    pub fn n_elements(&self) -> usize {
+        self.face.n_elements()
+    }
+
+    /// Parameter box `(lower, upper)` of element `e`.
+    pub fn bounds(&self, e: usize) -> ([f64; 2], [f64; 2]) {
+        let el = &self.face.elements()[e];
+        ([el.lower[0], el.lower[1]], [el.upper[0], el.upper[1]])
+    }
+
+    /// The current point at `eta`.
+    pub fn point(&self, eta: [f64; 2]) -> [f64; 3] {
+        SurfaceEvaluator::new(*self)
+            .at(self.face.locate(&eta), eta)
+            .x
+    }
+}
+
+/// Result of a projection onto the master surface.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SurfaceProjection {
+    /// Master surface parameters.
+    pub eta: [f64; 2],
+    /// Master element whose polynomial piece holds the projection.
+    pub element: usize,
+    /// Periodic image `(k_x, k_y)`: the master's points shifted by `(k_x W_x, k_y W_y, 0)`.
+    pub image: [i64; 2],
+    /// The physical shift of that image.
+    pub shift: [f64; 3],
+    /// Parameters held at the element's boundary: at a C0 edge (one) or
+    /// vertex (both) of the master, the slave point in its normal cone, or at
+    /// the end of a non-periodic master ([`Self::clamped`]).
+    pub fixed: [bool; 2],
+    /// The projection stopped at a boundary of a non-periodic master.
+    pub clamped: bool,
+    /// Distance to the projected point.
+    pub distance: f64,
+}
+
+/// Per-configuration search data: the bounding boxes of the master elements,
+/// the periods and where the parameter domain has seams.
+#[derive(Clone, Debug)]
+pub struct MasterSearch {
+    boxes: Vec<([f64; 3], [f64; 3])>,
+    /// Bounding box of the whole master.
+    extent: ([f64; 3], [f64; 3]),
+    /// Periods in x and y (PR conditions).
+    periods: [Option<f64>; 2],
+    /// Parameter domain of the face.
+    domain: ([f64; 2], [f64; 2]),
+    /// Whether the ends of parametric direction `d` are periodic seams.
+    seams: [bool; 2],
+    /// A length of the master (for relative tolerances).
+    scale: f64,
+}
+
+impl MasterSearch {
+    /// Bounding boxes of `surface`'s elements; `periods` in x and y. A
+    /// parametric direction whose ends are a period apart along a periodic
+    /// axis has seams there, not boundaries.
+    pub fn new(surface: &MasterSurface, periods: [Option<f64>; 2]) -> Self {
+        let face = surface.face;
+        let mut boxes = Vec::with_capacity(face.n_elements());
+        let mut extent = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for el in face.elements() {
+            let mut b = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+            for &g in &el.functions {
+                let p = surface.points[g];
+                for c in 0..3 {
+                    b.0[c] = b.0[c].min(p[c]);
+                    b.1[c] = b.1[c].max(p[c]);
+                }
+            }
+            for c in 0..3 {
+                extent.0[c] = extent.0[c].min(b.0[c]);
+                extent.1[c] = extent.1[c].max(b.1[c]);
+            }
+            boxes.push(b);
+        }
+        let kv = face.knots();
+        let domain = ([kv[0].first(), kv[1].first()], [kv[0].last(), kv[1].last()]);
+        // Seams: the two ends of direction d differ by a period along an axis.
+        let mut seams = [false; 2];
+        let mid = [
+            0.5 * (domain.0[0] + domain.1[0]),
+            0.5 * (domain.0[1] + domain.1[1]),
+        ];
+        for (d, seam) in seams.iter_mut().enumerate() {
+            let (mut lo, mut hi) = (mid, mid);
+            lo[d] = domain.0[d];
+            hi[d] = domain.1[d];
+            let (xl, xh) = (surface.point(lo), surface.point(hi));
+            *seam = (0..2)
+                .any(|c| periods[c].is_some_and(|w| ((xh[c] - xl[c]).abs() - w).abs() <= 1e-9 * w));
+        }
+        let scale = (0..3)
+            .map(|c| extent.1[c] - extent.0[c])
+            .fold(0.0, f64::max)
+            .max(f64::MIN_POSITIVE);
+        MasterSearch {
+            boxes,
+            extent,
+            periods,
+            domain,
+            seams,
+            scale,
+        }
+    }
+
+    /// The periodic images of the master that may hold the closest point to `x`.
+    fn images(&self, x: [f64; 3]) -> Vec<[i64; 2]> {
+        let range = |c: usize| -> Vec<i64> {
+            match self.periods[c] {
+                None => vec![0],
+                Some(w) => {
+                    let k0 = ((x[c] - self.extent.1[c]) / w).floor() as i64;
+                    let k1 = ((x[c] - self.extent.0[c]) / w).ceil() as i64;
+                    (k0..=k1).collect()
+                }
+            }
+        };
+        let (kx, ky) = (range(0), range(1));
+        kx.iter()
+            .flat_map(|&i| ky.iter().map(move |&j| [i, j]))
+            .collect()
+    }
+
+    /// The physical shift of image `k`.
+    pub fn shift(&self, k: [i64; 2]) -> [f64; 3] {
+        [
+            self.periods[0].map_or(0.0, |w| k[0] as f64 * w),
+            self.periods[1].map_or(0.0, |w| k[1] as f64 * w),
+            0.0,
+        ]
+    }
+
+    /// Distance from `x` to the bounding box of element `e`.
+    fn lower_bound(&self, e: usize, x: [f64; 3]) -> f64 {
+        let (lo, hi) = self.boxes[e];
+        (0..3)
+            .map(|c| (lo[c] - x[c]).max(x[c] - hi[c]).max(0.0).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    }
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// Closest point of element `e` to `x` by projected Newton on
+/// `f(η) = ½|x − x_m(η)|²` over the element's parameter box, from the
+/// closest of `start` (if any) and a 3 × 3 grid of the element's corners,
+/// edge mid-points and centre (the distance may have several local minima
+/// on one element). Returns `(η, |x − x_m(η)|²)`.
+fn element_minimum(
+    ev: &mut SurfaceEvaluator,
+    e: usize,
+    x: [f64; 3],
+    start: Option<[f64; 2]>,
+) -> ([f64; 2], f64) {
+    let (lo, hi) = ev.surface.bounds(e);
+    let clamp = |eta: [f64; 2]| [eta[0].clamp(lo[0], hi[0]), eta[1].clamp(lo[1], hi[1])];
+    let mut eta = [0.0; 2];
+    let mut p = SurfacePoint::default();
+    let mut f = f64::INFINITY;
+    let grid = (0..9).map(|k| {
+        let t = [(k % 3) as f64 / 2.0, (k / 3) as f64 / 2.0];
+        [
+            lo[0] + t[0] * (hi[0] - lo[0]),
+            lo[1] + t[1] * (hi[1] - lo[1]),
+        ]
+    });
+    for s in start.map(clamp).into_iter().chain(grid) {
+        let ps = ev.at(e, s);
+        let fs = dot(sub(x, ps.x), sub(x, ps.x));
+        if fs < f {
+            (eta, p, f) = (s, ps, fs);
+        }
+    }
+    for _ in 0..60 {
+        let r = sub(x, p.x);
+        // Gradient and Hessian of f.
+        let g = [-dot(r, p.a[0]), -dot(r, p.a[1])];
+        let mut h = [[0.0; 2]; 2];
+        for i in 0..2 {
+            for l in 0..2 {
+                h[i][l] = dot(p.a[i], p.a[l]) - dot(r, p.aa[i][l]);
+            }
+        }
+        let free: [bool; 2] = std::array::from_fn(|d| {
+            !((eta[d] <= lo[d] && g[d] > 0.0) || (eta[d] >= hi[d] && g[d] < 0.0))
+        });
+        let gradient_step = |d: usize| -g[d] / dot(p.a[d], p.a[d]);
+        let step = match free {
+            [true, true] => {
+                let det = h[0][0] * h[1][1] - h[0][1] * h[1][0];
+                if h[0][0] > 0.0 && det > 0.0 {
+                    [
+                        -(h[1][1] * g[0] - h[0][1] * g[1]) / det,
+                        -(h[0][0] * g[1] - h[1][0] * g[0]) / det,
+                    ]
+                } else {
+                    [gradient_step(0), gradient_step(1)]
+                }
+            }
+            [false, false] => break,
+            _ => {
+                let d = usize::from(free[1]);
+                let mut s = [0.0; 2];
+                s[d] = if h[d][d] > 0.0 {
+                    -g[d] / h[d][d]
+                } else {
+                    gradient_step(d)
+                };
+                s
+            }
+        };
+        // Backtracking: accept the first step length that does not increase f.
+        let mut t = 1.0;
+        let (next, pn, fnext) = loop {
+            let cand = clamp([eta[0] + t * step[0], eta[1] + t * step[1]]);
+            let pc = ev.at(e, cand);
+            let fc = dot(sub(x, pc.x), sub(x, pc.x));
+            if fc <= f * (1.0 + 1e-14) || t < 1e-4 {
+                break (cand, pc, fc);
+            }
+            t *= 0.5;
+        };
+        if fnext > f * (1.0 + 1e-14) {
+            break;
+        }
+        let done = (0..2).all(|d| (next[d] - eta[d]).abs() <= 1e-15 * (hi[d] - lo[d]));
+        (eta, p, f) = (next, pn, fnext);
+        if done {
+            break;
+        }
+    }
+    (eta, f)
+}
+
+/// A starting guess for [`project`]: the previous projection of the point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Guess {
+    /// Master element.
+    pub element: usize,
+    /// Periodic image.
+    pub image: [i64; 2],
+    /// Parameters.
+    pub eta: [f64; 2],
+}
+
+impl From<&SurfaceProjection> for Guess {
+    fn from(p: &SurfaceProjection) -> Self {
+        Guess {
+            element: p.element,
+            image: p.image,
+            eta: p.eta,
+        }
+    }
+}
+
+/// Projects `x` onto `surface` (current configuration) and its periodic
+/// images; `guess`: the previous projection of the point, if any.
+pub fn project(
+    surface: &MasterSurface,
+    search: &MasterSearch,
+    x: [f64; 3],
+    guess: Option<Guess>,
+) -> Result<SurfaceProjection> {
+    let mut ev = SurfaceEvaluator::new(*surface);
+    // (distance², element, image, η)
+    let mut best: Option<(f64, usize, [i64; 2], [f64; 2])> = None;
+    let consider = |ev: &mut SurfaceEvaluator,
+                    best: &mut Option<(f64, usize, [i64; 2], [f64; 2])>,
+                    e: usize,
+                    k: [i64; 2],
+                    start: Option<[f64; 2]>| {
+        let xs = sub(x, search.shift(k));
+        let (eta, d2) = element_minimum(ev, e, xs, start);
+        if best.is_none_or(|b| d2 < b.0 * (1.0 - 1e-13)) {
+            *best = Some((d2, e, k, eta));
+        }
+    };
+    let n = surface.n_elements();
+    if let Some(g) = guess.filter(|g| g.element < n) {
+        consider(&mut ev, &mut best, g.element, g.image, Some(g.eta));
+    }
+    let mut candidates: Vec<(f64, usize, [i64; 2])> = Vec::new();
+    for k in search.images(x) {
+        let xs = sub(x, search.shift(k));
+        let bound = best.map_or(f64::INFINITY, |b| b.0.sqrt());
+        for e in 0..n {
+            let lb = search.lower_bound(e, xs);
+            if lb <= bound * (1.0 + 1e-12) + 1e-14 * search.scale {
+                candidates.push((lb, e, k));
+            }
+        }
+    }
+    candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
+    for (lb, e, k) in candidates {
+        if let Some(b) = best
+            && lb > b.0.sqrt() * (1.0 + 1e-12) + 1e-14 * search.scale
+        {
+            break;
+        }
+        if guess.is_some_and(|g| g.element == e && g.image == k) {
+            continue;
+        }
+        consider(&mut ev, &mut best, e, k, None);
+    }
+    let (d2, element, image, eta) = best.ok_or_else(|| {
+        Error::Geometry(format!(
+            "no projection of the point ({}, {}, {}) onto the master surface",
+            x[0], x[1], x[2]
+        ))
+    })?;
+    let shift = search.shift(image);
+    let xs = sub(x, shift);
+    let p = ev.at(element, eta);
+    let r = sub(xs, p.x);
+    let rn = dot(r, r).sqrt();
+    let (lo, hi) = surface.bounds(element);
+    let mut fixed = [false; 2];
+    let mut clamped = false;
+    for d in 0..2 {
+        if eta[d] != lo[d] && eta[d] != hi[d] {
+            continue;
+        }
+        let cosine = dot(r, p.a[d]) / (rn * dot(p.a[d], p.a[d]).sqrt());
+        if rn <= 1e-13 * search.scale || cosine.abs() <= 1e-9 {
+            // Orthogonal at the element boundary (a smooth or flat master).
+            continue;
+        }
+        fixed[d] = true;
+        let at_end = eta[d] == search.domain.0[d] || eta[d] == search.domain.1[d];
+        if at_end && !search.seams[d] {
+            clamped = true;
+        }
+    }
+    Ok(SurfaceProjection {
+        eta,
+        element,
+        image,
+        shift,
+        fixed,
+        clamped,
+        distance: d2.sqrt(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::testing::rng;
+    use crate::geometry::{KnotVector, NurbsPatch, circular_arc};
+
+    fn surface(p: &ThbPatch) -> MasterSurface<'_> {
+        MasterSurface {
+            face: p,
+            points: p.control_points(),
+        }
+    }
+
+    /// A wavy B-spline height map over `[0, 1]²` of degree `p` with `n × n`
+    /// elements (control heights random), locally refined in one corner.
+    fn wavy(p: usize, n: usize, amplitude: f64, refine: bool) -> ThbPatch {
+        let kv = KnotVector::open_uniform(p, n, 0.0, 1.0);
+        let m = kv.n_basis();
+        let g = kv.greville();
+        let mut r = rng(5);
+        let mut points = Vec::new();
+        for j in 0..m {
+            for i in 0..m {
+                points.push([g[i], g[j], amplitude * (2.0 * r() - 1.0)]);
+            }
+        }
+        let patch = ThbPatch::from(
+            &NurbsPatch::new(vec![kv.clone(), kv], points, vec![1.0; m * m]).unwrap(),
+        );
+        if refine {
+            let mut mesh = patch.mesh().clone();
+            mesh.refine_where(|_, lo, _| lo[0] < 0.3 && lo[1] < 0.5);
+            patch.with_mesh(mesh)
+        } else {
+            patch
+        }
+    }
+
+    /// Brute-force minimum distance from `x` to the master and its images
+    /// `shifts`: `per × per` samples per element, then a finer sampling
+    /// around the best few samples.
+    fn brute_force(s: &MasterSurface, x: [f64; 3], shifts: &[[f64; 2]], per: usize) -> f64 {
+        let mut ev = SurfaceEvaluator::new(*s);
+        let mut dist = |e: usize, eta: [f64; 2], sh: [f64; 2]| {
+            let q = ev.at(e, eta).x;
+            let r = sub(x, [q[0] + sh[0], q[1] + sh[1], q[2]]);
+            dot(r, r).sqrt()
+        };
+        // (distance, element, shift, η)
+        let mut coarse: Vec<(f64, usize, [f64; 2], [f64; 2])> = Vec::new();
+        for e in 0..s.n_elements() {
+            let (lo, hi) = s.bounds(e);
+            for &sh in shifts {
+                for i in 0..=per {
+                    for j in 0..=per {
+                        let eta = [
+                            lo[0] + (hi[0] - lo[0]) * i as f64 / per as f64,
+                            lo[1] + (hi[1] - lo[1]) * j as f64 / per as f64,
+                        ];
+                        coarse.push((dist(e, eta, sh), e, sh, eta));
+                    }
+                }
+            }
+        }
+        coarse.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut best = coarse[0].0;
+        for &(_, e, sh, eta) in coarse.iter().take(6) {
+            let (lo, hi) = s.bounds(e);
+            let h = [(hi[0] - lo[0]) / per as f64, (hi[1] - lo[1]) / per as f64];
+            for i in 0..=60 {
+                for j in 0..=60 {
+                    let t = [i as f64 / 30.0 - 1.0, j as f64 / 30.0 - 1.0];
+                    let q = [
+                        (eta[0] + t[0] * h[0]).clamp(lo[0], hi[0]),
+                        (eta[1] + t[1] * h[1]).clamp(lo[1], hi[1]),
+                    ];
+                    best = best.min(dist(e, q, sh));
+                }
+            }
+        }
+        best
+    }
+
+    fn check_against_brute_force(patch: &ThbPatch, per: usize, tol: f64, cases: usize) {
+        let s = surface(patch);
+        let mut r = rng(11);
+        for periods in [[None, None], [Some(1.0), Some(1.0)]] {
+            let search = MasterSearch::new(&s, periods);
+            let mut previous: Option<SurfaceProjection> = None;
+            for _ in 0..cases {
+                let x = [-0.4 + 1.8 * r(), -0.4 + 1.8 * r(), -0.5 + 1.0 * r()];
+                // Half of the points with the previous projection as a (poor) guess.
+                let guess = previous.filter(|_| r() < 0.5).as_ref().map(Guess::from);
+                let pr = project(&s, &search, x, guess).unwrap();
+                let shifts: Vec<[f64; 2]> = if periods[0].is_some() {
+                    (-1..=1)
+                        .flat_map(|i| (-1..=1).map(move |j| [i as f64, j as f64]))
+                        .collect()
+                } else {
+                    vec![[0.0, 0.0]]
+                };
+                // The projection is a point of the surface: never closer than
+                // the true minimum, so only the upper side is a check; the
+                // lower side checks the brute force.
+                let brute = brute_force(&s, x, &shifts, per);
+                assert!(
+                    pr.distance <= brute + 1e-12 && pr.distance >= brute - tol,
+                    "{x:?} {periods:?}: {} vs {brute} ({pr:?})",
+                    pr.distance
+                );
+                let y = SurfaceEvaluator::new(s).at(pr.element, pr.eta).x;
+                let d = dot(sub(sub(x, pr.shift), y), sub(sub(x, pr.shift), y)).sqrt();
+                assert!((d - pr.distance).abs() < 1e-12);
+                previous = Some(pr);
+            }
+        }
+    }
+
+    #[test]
+    fn projection_distance_is_the_minimum_over_a_smooth_refined_surface() {
+        check_against_brute_force(&wavy(2, 4, 0.06, true), 8, 3e-4, 40);
+        check_against_brute_force(&wavy(3, 3, 0.1, false), 8, 3e-4, 40);
+    }
+
+    #[test]
+    fn projection_distance_is_the_minimum_over_a_faceted_surface() {
+        // Degree 1: C0 edges and vertices everywhere (the minimum is often on them).
+        check_against_brute_force(&wavy(1, 4, 0.2, false), 8, 3e-4, 60);
+    }
+
+    /// The surface of revolution of the meridian arc `[φ0, φ1]` (latitude) of
+    /// the sphere of radius `radius` about `c`, longitudes `[λ0, λ1]`: an exact
+    /// rational biquadratic sphere patch (Piegl & Tiller A8.1).
+    fn sphere_patch(c: [f64; 3], radius: f64, lat: [f64; 2], lon: [f64; 2]) -> ThbPatch {
+        let meridian = circular_arc([0.0; 3], radius, lat[0], lat[1]);
+        let circle = circular_arc([0.0; 3], 1.0, lon[0], lon[1]);
+        let mut points = Vec::new();
+        let mut weights = Vec::new();
+        for (m, wm) in meridian.control_points().iter().zip(meridian.weights()) {
+            for (q, wq) in circle.control_points().iter().zip(circle.weights()) {
+                // Meridian point (ρ, z) = (m_x, m_y).
+                points.push([c[0] + m[0] * q[0], c[1] + m[0] * q[1], c[2] + m[1]]);
+                weights.push(wm * wq);
+            }
+        }
+        ThbPatch::from(
+            &NurbsPatch::new(
+                vec![circle.knots()[0].clone(), meridian.knots()[0].clone()],
+                points,
+                weights,
+            )
+            .unwrap(),
+        )
+    }
+
+    #[test]
+    fn projects_onto_a_sphere_and_a_cylinder_exactly() {
+        let c = [0.1, -0.2, 0.3];
+        let sphere = sphere_patch(c, 2.0, [0.2, 1.2], [-0.4, 1.1]);
+        let s = surface(&sphere);
+        let search = MasterSearch::new(&s, [None, None]);
+        let mut r = rng(3);
+        for _ in 0..50 {
+            // Directions inside the patch, inside and outside the sphere.
+            let (lat, lon) = (0.25 + 0.9 * r(), -0.35 + 1.4 * r());
+            let rad = 2.0 * (0.3 + 1.4 * r());
+            let dir = [lat.cos() * lon.cos(), lat.cos() * lon.sin(), lat.sin()];
+            let x = [
+                c[0] + rad * dir[0],
+                c[1] + rad * dir[1],
+                c[2] + rad * dir[2],
+            ];
+            let pr = project(&s, &search, x, None).unwrap();
+            assert!((pr.distance - (rad - 2.0).abs()).abs() < 1e-12, "{pr:?}");
+            let y = s.point(pr.eta);
+            for k in 0..3 {
+                assert!((y[k] - (c[k] + 2.0 * dir[k])).abs() < 1e-12);
+            }
+            assert!(!pr.clamped && pr.fixed == [false, false]);
+        }
+        // A cylinder of radius 1 about the y axis: the arc (x, z) extruded in y.
+        let arc = circular_arc([0.0; 3], 1.0, 0.3, 2.5);
+        let line = KnotVector::open_uniform(1, 2, 0.0, 1.0);
+        let mut points = Vec::new();
+        let mut weights = Vec::new();
+        for y in [-1.0, 0.0, 1.0] {
+            for (q, w) in arc.control_points().iter().zip(arc.weights()) {
+                points.push([q[0], y, q[1]]);
+                weights.push(*w);
+            }
+        }
+        let cyl = ThbPatch::from(
+            &NurbsPatch::new(vec![arc.knots()[0].clone(), line], points, weights).unwrap(),
+        );
+        let s = surface(&cyl);
+        let search = MasterSearch::new(&s, [None, None]);
+        for _ in 0..50 {
+            let (t, y, rad) = (0.4 + 2.0 * r(), -0.9 + 1.8 * r(), 0.2 + 2.0 * r());
+            let x = [rad * t.cos(), y, rad * t.sin()];
+            let pr = project(&s, &search, x, None).unwrap();
+            assert!((pr.distance - (rad - 1.0).abs()).abs() < 1e-12, "{pr:?}");
+            let q = s.point(pr.eta);
+            assert!((q[0] - t.cos()).abs() < 1e-12 && (q[1] - y).abs() < 1e-12);
+        }
+    }
+
+    /// A degree-1 tent over `[0, 2]²`: four bilinear pieces rising from a flat
+    /// rim (z = 0) to the apex `(1, 1, 1)`, with kinks along x = 1 and y = 1.
+    fn tent() -> ThbPatch {
+        let kv = KnotVector::new(1, vec![0.0, 0.0, 0.5, 1.0, 1.0]).unwrap();
+        let mut points = Vec::new();
+        for j in 0..3 {
+            for i in 0..3 {
+                let z = if i == 1 && j == 1 { 1.0 } else { 0.0 };
+                points.push([i as f64, j as f64, z]);
+            }
+        }
+        ThbPatch::from(&NurbsPatch::new(vec![kv.clone(), kv], points, vec![1.0; 9]).unwrap())
+    }
+
+    #[test]
+    fn points_in_normal_cones_project_onto_edges_and_vertices() {
+        let p = tent();
+        let s = surface(&p);
+        let search = MasterSearch::new(&s, [None, None]);
+        // Above the apex: the vertex.
+        let v = project(&s, &search, [1.0, 1.0, 2.0], None).unwrap();
+        assert_eq!(v.fixed, [true, true]);
+        assert!(!v.clamped && (v.distance - 1.0).abs() < 1e-14);
+        assert_eq!(v.eta, [0.5, 0.5]);
+        // Above the element edge x = 1 (between elements 0 and 1), y = 0.25:
+        // the bilinear pieces meet at a kink there.
+        let q = project(&s, &search, [1.0, 0.25, 1.0], None).unwrap();
+        assert!(!q.clamped);
+        assert_eq!(q.fixed.iter().filter(|&&f| f).count(), 1, "{q:?}");
+        let y = s.point(q.eta);
+        assert!((y[0] - 1.0).abs() < 1e-14, "{y:?}");
+        // Edge: the vector to the point is orthogonal to the edge's tangent.
+        let edge_tangent = [0.0, 1.0, 1.0];
+        let r = sub([1.0, 0.25, 1.0], y);
+        assert!(dot(r, edge_tangent).abs() < 1e-12, "{r:?}");
+        // Beyond the rim of a non-periodic master: clamped; periodic: not.
+        let c = project(&s, &search, [2.4, 1.3, 0.2], None).unwrap();
+        assert!(c.clamped && c.fixed[0] && !c.fixed[1], "{c:?}");
+        let periodic = MasterSearch::new(&s, [Some(2.0), Some(2.0)]);
+        let w = project(&s, &periodic, [2.4, 1.3, 0.2], None).unwrap();
+        assert!(!w.clamped && w.image == [1, 0], "{w:?}");
+        assert!(w.distance < c.distance);
+    }
+}
