@@ -145,8 +145,7 @@ fn long_westergaard_richardson() {
         "constriction_256",
         &s256,
         &fine,
-        0.01,
-        0.75,
+        (0.3, 0.75),
     ));
     assert_pass(&checks);
 }

@@ -115,6 +115,11 @@ pub struct ContactSettings {
     pub mechanical_penalty: Option<f64>,
     /// Integration of the mortar integrals.
     pub integration: Integration,
+    /// Thermal constraint models in the thermal phase of the two-phase
+    /// methods: integrate over the contact zone where the interpolated
+    /// pressure indicator is positive (edges inside elements) instead of
+    /// over the supports of the nodal active set (`mortar::ContactZone`).
+    pub thermal_zone: bool,
 }
 
 impl Default for ContactSettings {
@@ -125,6 +130,7 @@ impl Default for ContactSettings {
             interface_points: 8,
             mechanical_penalty: None,
             integration: Integration::Auto,
+            thermal_zone: true,
         }
     }
 }
@@ -146,6 +152,7 @@ struct ContactKeys {
     #[serde(skip_serializing_if = "Option::is_none")]
     mechanical_penalty: Option<f64>,
     integration: Integration,
+    thermal_zone: bool,
 }
 
 impl Default for ContactKeys {
@@ -166,6 +173,7 @@ impl From<ContactSettings> for ContactKeys {
             interface_points: c.interface_points,
             mechanical_penalty: c.mechanical_penalty,
             integration: c.integration,
+            thermal_zone: c.thermal_zone,
         };
         match c.thermal {
             ThermalContact::Constraint {
@@ -213,6 +221,7 @@ impl TryFrom<ContactKeys> for ContactSettings {
             interface_points: k.interface_points,
             mechanical_penalty: k.mechanical_penalty,
             integration: k.integration,
+            thermal_zone: k.thermal_zone,
         })
     }
 }

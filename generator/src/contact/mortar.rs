@@ -27,11 +27,12 @@ use crate::contact::kinematics::{Derivatives, Needs, PointGeometry, differentiat
 use crate::contact::projection::{
     MasterCurve, MasterSamples, Projection, project, project_on_element,
 };
-use crate::contact::segments::{Breakpoint, Segmenter};
+use crate::contact::segments::{Breakpoint, Segmenter, interval_points};
 use crate::contact::{
     ContactSettings, Integration, ThermalContact, ThermalEnforcement, ThermalMethod,
 };
 use crate::geometry::{Side, ThbPatch};
+use crate::quadrature::GaussLegendre;
 use crate::solve::dofs::DofMap;
 use crate::{Error, Result};
 
@@ -99,6 +100,9 @@ pub struct ContactInterface {
     pub lumped_area: Vec<f64>,
     /// Points touching each slave node.
     node_points: Vec<Vec<usize>>,
+    /// Mortar test weights `(node, weight · ψ^I)` of each point where they
+    /// are not the slave basis (the contact zone, [`ContactInterface::freeze`]).
+    test: Option<Vec<Vec<(usize, f64)>>>,
     /// The slave node whose contact element carries a point's continuum terms.
     owner: Vec<usize>,
     /// Period of the master (PR conditions), scaled.
@@ -118,6 +122,15 @@ pub struct ContactInterface {
     pub active: Vec<bool>,
     /// Frozen mechanical pressure and active set (thermal phase).
     pub frozen: Option<(Vec<f64>, Vec<bool>)>,
+    /// The contact zone of the frozen configuration, where the thermal
+    /// contact is integrated (see [`ContactInterface::freeze`]).
+    zone: Option<ContactZone>,
+    /// The mechanical integration points, kept while the thermal phase
+    /// integrates over the contact zone only.
+    mechanical_points: Option<PointSet>,
+    /// The slave face (reference configuration; its control points in the
+    /// order of `slave_nodes`).
+    slave_face: Arc<ThbPatch>,
     /// Master face nodes coupled to each slave node in the current pattern.
     pub band: Vec<BTreeSet<usize>>,
     /// Segment-based integration (then `points` follow the configuration).
@@ -129,6 +142,74 @@ pub struct ContactInterface {
     /// Second-derivative terms of the weighted gaps from moving breakpoints.
     break_terms: Vec<BreakTerm>,
 }
+
+/// Integration points and what each slave node sees of them.
+#[derive(Clone, Debug, Default)]
+struct PointSet {
+    points: Vec<SlavePoint>,
+    node_points: Vec<Vec<usize>>,
+    test: Option<Vec<Vec<(usize, f64)>>>,
+    owner: Vec<usize>,
+    lumped_area: Vec<f64>,
+}
+
+impl PointSet {
+    /// The points, with the points touching each of `n_nodes` slave nodes,
+    /// the owners and the lumped areas `⟨ψ^I⟩` over them; the test
+    /// functions `ψ^I` are the slave basis `N^I` unless `test` gives their
+    /// weights `(node, weight · ψ^I)` at each point.
+    fn new(points: Vec<SlavePoint>, test: Option<Vec<Vec<(usize, f64)>>>, n_nodes: usize) -> Self {
+        let mut node_points = vec![Vec::new(); n_nodes];
+        let mut lumped_area = vec![0.0; n_nodes];
+        for (id, p) in points.iter().enumerate() {
+            let pairs: Vec<(usize, f64)> = match &test {
+                Some(t) => t[id].clone(),
+                None => p
+                    .conn
+                    .iter()
+                    .zip(&p.basis)
+                    .map(|(&i, &n)| (i, p.weight * n))
+                    .collect(),
+            };
+            for (i, w) in pairs {
+                node_points[i].push(id);
+                lumped_area[i] += w;
+            }
+        }
+        PointSet {
+            owner: points.iter().map(owner_of).collect(),
+            points,
+            node_points,
+            test,
+            lumped_area,
+        }
+    }
+}
+
+/// The contact zone `{ξ : p_h(ξ) > 0}` on the slave surface, with the
+/// pressure indicator interpolated from the lumped values,
+/// `p_h = Σ_I (λN^I − εN g^I) R^I`: inside it is the contact pressure,
+/// outside (scaled by −εN) the weighted gap, so its zero crossing locates
+/// the contact edge inside an element instead of at a control point (no
+/// half-element inward bias, issue 11 item 3). In 2D a union of parameter
+/// intervals of the slave face elements.
+#[derive(Clone, Debug, Default)]
+pub struct ContactZone {
+    /// `(slave face element, ξ_start, ξ_end)`.
+    pub intervals: Vec<(usize, f64, f64)>,
+    /// Length of the zone projected on the mean plane (x), in the current
+    /// configuration (scaled).
+    pub projected_length: f64,
+    /// Mean gap over the slave surface (scaled), penetrations counted as 0.
+    pub mean_gap: f64,
+    /// The lumped areas `⟨N^I⟩` over the whole surface (4.8).
+    pub surface_area: Vec<f64>,
+}
+
+/// Zero crossings of the pressure indicator are sought between this many
+/// samples per slave element (more than the ≤ p roots a degree-p element
+/// polynomial can have close together).
+const ZONE_SAMPLES: usize = 16;
 
 /// The motion of a breakpoint `ξb` between two master pieces where the gap's
 /// gradient jumps (two orthogonal projections at equal distance): it adds
@@ -160,6 +241,7 @@ impl ContactInterface {
         let (sp, soff, sdir, sside) = slave;
         let (mp, moff, mdir, mside) = master;
         let (slave_face, sidx) = sp.face(sdir, sside);
+        let slave_face = Arc::new(slave_face);
         let (master_face, midx) = mp.face(mdir, mside);
         if master_face.param_dim() != 1 {
             return Err(Error::Geometry(
@@ -236,7 +318,7 @@ impl ContactInterface {
             Integration::Auto => c0_master,
             Integration::Element => false,
         }
-        .then(|| Segmenter::new(slave_face, settings.interface_points));
+        .then(|| Segmenter::new((*slave_face).clone(), settings.interface_points));
         let n_s = slave_nodes.len();
         let eps_n = settings.mechanical_penalty.unwrap_or(1.0) / h_min;
         let eps_t = match settings.thermal {
@@ -255,6 +337,7 @@ impl ContactInterface {
             points,
             lumped_area: lumped,
             node_points,
+            test: None,
             owner,
             period,
             normal_sign,
@@ -265,6 +348,9 @@ impl ContactInterface {
             lambda_t: vec![0.0; n_s],
             active: vec![false; n_s],
             frozen: None,
+            zone: None,
+            mechanical_points: None,
+            slave_face,
             band: vec![BTreeSet::new(); n_s],
             segmenter,
             breakpoints: Vec::new(),
@@ -292,15 +378,11 @@ impl ContactInterface {
             let image = period.map_or(0, |w| (pr.shift / w).round() as i64);
             Ok((pr.element, image, pr.vertex))
         })?;
-        let mut node_points = vec![Vec::new(); self.slave_nodes.len()];
-        for (id, p) in points.iter().enumerate() {
-            for &i in &p.conn {
-                node_points[i].push(id);
-            }
-        }
-        self.owner = points.iter().map(owner_of).collect();
-        self.node_points = node_points;
-        self.points = points;
+        // The lumped areas are the element-based ones (the same integrals).
+        let set = PointSet::new(points, None, self.slave_nodes.len());
+        self.owner = set.owner;
+        self.node_points = set.node_points;
+        self.points = set.points;
         self.breakpoints = breakpoints;
         Ok(())
     }
@@ -604,6 +686,9 @@ impl ContactInterface {
     }
 
     fn weight_of(&self, q: usize, i: usize) -> f64 {
+        if let Some(t) = &self.test {
+            return t[q].iter().find(|(j, _)| *j == i).map_or(0.0, |e| e.1);
+        }
         let sp = &self.points[q];
         let a = sp
             .conn
@@ -644,21 +729,266 @@ impl ContactInterface {
         }
     }
 
-    /// Whether slave node `i` is in the mechanical active set.
+    /// Whether slave node `i` is in contact: in the mechanical active set,
+    /// or, in the thermal phase on a contact zone, whether the zone covers a
+    /// part of its support (`⟨N^I⟩` over the zone above 1e-10 of the whole).
     pub fn is_active(&self, i: usize) -> bool {
-        match &self.frozen {
-            Some((_, a)) => a[i],
-            None => self.pressure(i) > 0.0,
+        match (&self.frozen, &self.zone) {
+            (Some(_), Some(z)) => self.lumped_area[i] > 1e-10 * z.surface_area[i],
+            (Some((_, a)), None) => a[i],
+            _ => self.pressure(i) > 0.0,
         }
     }
 
-    /// Freezes pressures and the active set (the thermal phase on a frozen configuration).
-    pub fn freeze(&mut self) {
-        // Unclamped: outside the active set the indicator is −εN g (a gap), which
-        // the contact-fraction measurement interpolates; physics clamps at 0.
-        let p: Vec<f64> = (0..self.n_slave()).map(|i| self.pressure(i)).collect();
+    /// The pressure indicator `λN^I − εN g^I` of slave node `i`: the contact
+    /// pressure where positive, `−εN` times the weighted gap otherwise
+    /// (frozen in the thermal phase).
+    pub fn indicator(&self, i: usize) -> f64 {
+        match &self.frozen {
+            Some((p, _)) => p[i],
+            None => self.lambda_n[i] - self.eps_n * self.weighted_gap(i),
+        }
+    }
+
+    /// `⟨N^I⟩` over the whole slave surface (4.8), also while the thermal
+    /// phase integrates over the contact zone.
+    pub fn surface_area(&self, i: usize) -> f64 {
+        match &self.zone {
+            Some(z) => z.surface_area[i],
+            None => self.lumped_area[i],
+        }
+    }
+
+    /// Freezes pressures and the active set (the thermal phase on a frozen
+    /// configuration, `state` the solved mechanical one) and moves the
+    /// thermal contact integrals onto the contact zone [`ContactZone`]: the
+    /// lumped thermal quantities (4.8) become `⟨N^I ·⟩` over the zone, split
+    /// at its edges (and at the segments' breakpoints), so that the
+    /// conducting area is the zone's to the accuracy of the pressure field.
+    /// Only for the constraint models with `thermal_zone` set: the
+    /// constitutive model's lumped pressures are forces per full support
+    /// (`Σ ⟨N^I⟩ pN^I` is the load), so it keeps the supports.
+    pub fn freeze(&mut self, state: &[f64]) {
+        self.thaw();
+        // Unclamped: outside the active set the indicator is −εN g (a gap);
+        // physics clamps at 0.
+        let p: Vec<f64> = (0..self.n_slave()).map(|i| self.indicator(i)).collect();
         let a: Vec<bool> = (0..self.n_slave()).map(|i| self.is_active(i)).collect();
+        let constraint = matches!(self.settings.thermal, ThermalContact::Constraint { .. });
+        if !(self.settings.thermal_zone && constraint) {
+            self.frozen = Some((p, a));
+            return;
+        }
+        let mut zone = self.contact_zone(&p, state);
+        // A node in contact whose support the interpolated indicator does not
+        // reach (a single touching node between deep gaps, e.g. first touch
+        // at p = 3) keeps its whole support, as without a zone.
+        let face = Arc::clone(&self.slave_face);
+        let reached: BTreeSet<usize> = zone
+            .intervals
+            .iter()
+            .flat_map(|&(e, _, _)| face.elements()[e].functions.iter().copied())
+            .collect();
+        let mut extra: BTreeSet<usize> = BTreeSet::new();
+        for (e, el) in face.elements().iter().enumerate() {
+            if el
+                .functions
+                .iter()
+                .any(|&i| p[i] > 0.0 && !reached.contains(&i))
+            {
+                extra.insert(e);
+            }
+        }
+        if !extra.is_empty() {
+            zone.intervals.retain(|iv| !extra.contains(&iv.0));
+            for &e in &extra {
+                let el = &face.elements()[e];
+                zone.intervals.push((e, el.lower[0], el.upper[0]));
+            }
+            zone.intervals
+                .sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+            zone.projected_length = self.projected_length(&zone.intervals, state);
+        }
+        zone.mean_gap = self.mean_gap();
+        zone.surface_area = self.lumped_area.clone();
+        let rule = GaussLegendre::new(self.settings.interface_points);
+        let mut points = Vec::new();
+        for &(e, a, b) in &zone.intervals {
+            let mut cuts = vec![a];
+            cuts.extend(
+                self.breakpoints
+                    .iter()
+                    .filter(|bp| bp.element == e && bp.xi > a && bp.xi < b)
+                    .map(|bp| bp.xi),
+            );
+            cuts.push(b);
+            cuts.sort_by(f64::total_cmp);
+            for w in cuts.windows(2) {
+                interval_points(&self.slave_face, e, (w[0], w[1]), &rule, &mut points);
+            }
+        }
+        // Multipliers on the nodes of positive indicator only. A node that the zone reaches but whose indicator is not
+        // positive hands its test function, point by point, to the
+        // in-contact node of largest basis value there. The ψ^I stay a
+        // partition of unity on the zone, and no edge element gets more
+        // constraints than its jump can meet (which would lock it to zero
+        // over the whole element).
+        let test: Vec<Vec<(usize, f64)>> = points
+            .iter()
+            .map(|sp| {
+                let keep = |a: usize| p[sp.conn[a]] > 0.0;
+                let heir = (0..sp.conn.len())
+                    .filter(|&a| keep(a))
+                    .max_by(|&a, &b| sp.basis[a].total_cmp(&sp.basis[b]));
+                let mut pairs: Vec<(usize, f64)> = Vec::new();
+                for (a, &i) in sp.conn.iter().enumerate() {
+                    let to = match heir {
+                        Some(h) if !keep(a) => sp.conn[h],
+                        _ => i,
+                    };
+                    let w = sp.weight * sp.basis[a];
+                    match pairs.iter_mut().find(|(j, _)| *j == to) {
+                        Some(e) => e.1 += w,
+                        None => pairs.push((to, w)),
+                    }
+                }
+                pairs
+            })
+            .collect();
+        let set = PointSet::new(points, Some(test), self.n_slave());
+        let mechanical = self.swap_points(set);
+        self.mechanical_points = Some(mechanical);
+        self.zone = Some(zone);
         self.frozen = Some((p, a));
+        // Point states belong to the previous points.
+        self.state.clear();
+    }
+
+    /// Undoes [`ContactInterface::freeze`]: the mechanical points and a live
+    /// active set.
+    pub fn thaw(&mut self) {
+        if let Some(set) = self.mechanical_points.take() {
+            self.swap_points(set);
+            self.state.clear();
+        }
+        self.zone = None;
+        self.frozen = None;
+    }
+
+    fn swap_points(&mut self, set: PointSet) -> PointSet {
+        PointSet {
+            points: std::mem::replace(&mut self.points, set.points),
+            node_points: std::mem::replace(&mut self.node_points, set.node_points),
+            test: std::mem::replace(&mut self.test, set.test),
+            owner: std::mem::replace(&mut self.owner, set.owner),
+            lumped_area: std::mem::replace(&mut self.lumped_area, set.lumped_area),
+        }
+    }
+
+    /// The contact zone where the indicator interpolated from the nodal
+    /// values `ind` is positive, in the configuration `state` (its mean gap
+    /// and surface areas left empty).
+    fn contact_zone(&self, ind: &[f64], state: &[f64]) -> ContactZone {
+        let face = &*self.slave_face;
+        let (mut scratch, mut basis) = (TensorBasis::default(), RationalBasis::default());
+        let mut eval = |e: usize, xi: f64| -> f64 {
+            face.element_basis_into(e, &[xi], 0, &mut scratch, &mut basis);
+            basis
+                .indices
+                .iter()
+                .zip(&basis.values)
+                .map(|(&c, &n)| n * ind[c])
+                .sum()
+        };
+        let mut zone = ContactZone::default();
+        for (e, el) in face.elements().iter().enumerate() {
+            let (a, b) = (el.lower[0], el.upper[0]);
+            // Zero crossings between samples, by bisection.
+            let mut cuts = vec![a];
+            let mut left = (a, eval(e, a));
+            for k in 1..=ZONE_SAMPLES {
+                let xi = a + (b - a) * k as f64 / ZONE_SAMPLES as f64;
+                let right = (xi, eval(e, xi));
+                if (left.1 > 0.0) != (right.1 > 0.0) {
+                    let (mut lo, mut hi) = (left.0, right.0);
+                    while hi - lo > (b - a) * 1e-14 {
+                        let m = 0.5 * (lo + hi);
+                        if (eval(e, m) > 0.0) == (left.1 > 0.0) {
+                            lo = m;
+                        } else {
+                            hi = m;
+                        }
+                    }
+                    cuts.push(0.5 * (lo + hi));
+                }
+                left = right;
+            }
+            cuts.push(b);
+            for w in cuts.windows(2) {
+                if w[1] - w[0] <= (b - a) * 1e-13 || eval(e, 0.5 * (w[0] + w[1])) <= 0.0 {
+                    continue;
+                }
+                // Merge with the previous interval where they meet.
+                match zone.intervals.last_mut() {
+                    Some(last) if last.0 == e && last.2 == w[0] => last.2 = w[1],
+                    _ => zone.intervals.push((e, w[0], w[1])),
+                }
+            }
+        }
+        zone.projected_length = self.projected_length(&zone.intervals, state);
+        zone
+    }
+
+    /// Length (scaled) of slave face intervals projected on x in the
+    /// configuration `state`.
+    fn projected_length(&self, intervals: &[(usize, f64, f64)], state: &[f64]) -> f64 {
+        let (mut scratch, mut basis) = (TensorBasis::default(), RationalBasis::default());
+        let mut x = |e: usize, xi: f64| -> f64 {
+            self.slave_face
+                .element_basis_into(e, &[xi], 0, &mut scratch, &mut basis);
+            basis
+                .indices
+                .iter()
+                .zip(&basis.values)
+                .map(|(&c, &n)| n * (self.slave_ref[c][0] + state[self.slave_nodes[c] * 3]))
+                .sum()
+        };
+        intervals
+            .iter()
+            .map(|&(e, a, b)| (x(e, b) - x(e, a)).abs())
+            .sum()
+    }
+
+    /// Length (scaled, projected on the mean plane) of the contact zone
+    /// [`ContactZone`] in the configuration `state`: the frozen zone in the
+    /// thermal phase, else the zone of the current indicator.
+    pub fn contact_length(&self, state: &[f64]) -> f64 {
+        match &self.zone {
+            Some(z) => z.projected_length,
+            None => {
+                let ind: Vec<f64> = (0..self.n_slave()).map(|i| self.indicator(i)).collect();
+                self.contact_zone(&ind, state).projected_length
+            }
+        }
+    }
+
+    /// The frozen contact zone (thermal phase).
+    pub fn zone(&self) -> Option<&ContactZone> {
+        self.zone.as_ref()
+    }
+
+    /// Mean gap over the slave surface (scaled), penetrations counted as 0
+    /// (frozen in the thermal phase).
+    pub fn mean_gap(&self) -> f64 {
+        if let Some(z) = &self.zone {
+            return z.mean_gap;
+        }
+        let (mut g, mut w) = (0.0, 0.0);
+        for (q, st) in self.state.iter().enumerate() {
+            g += self.points[q].weight * st.gap.value.max(0.0);
+            w += self.points[q].weight;
+        }
+        if w > 0.0 { g / w } else { 0.0 }
     }
 
     /// Adds the contact element of slave node `i` to `k` (column-major, n×n) and `r`.
@@ -674,6 +1004,9 @@ impl ContactInterface {
             None
         };
         let area = self.lumped_area[i];
+        // The multiplier rows of nodes out of contact (the zone may not
+        // reach them in the thermal phase).
+        let surface_area = self.surface_area(i);
         // Accumulate G, H (gap) and Gt, Ht (jump) over the node's points.
         let (mut g, mut gt) = (vec![0.0; nd], vec![0.0; nd]);
         let want_h = k.is_some();
@@ -804,8 +1137,8 @@ impl ContactInterface {
                         }
                     }
                 } else {
-                    r[il] -= area * lam / self.eps_t;
-                    add_k(il, il, -area / self.eps_t);
+                    r[il] -= surface_area * lam / self.eps_t;
+                    add_k(il, il, -surface_area / self.eps_t);
                 }
             }
             ThermalContact::Constraint {

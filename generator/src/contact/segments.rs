@@ -112,25 +112,38 @@ impl Segmenter {
                 if w[1] - w[0] <= (b - a) * BREAK_TOLERANCE {
                     continue;
                 }
-                for (xi, wq) in self.rule.on_interval(w[0], w[1]) {
-                    self.face
-                        .element_basis_into(e, &[xi], 1, &mut scratch, &mut basis);
-                    let cp = self.face.control_points();
-                    let mut t = [0.0; 2];
-                    for (&g, d) in basis.indices.iter().zip(&basis.d1) {
-                        t[0] += d[0] * cp[g][0];
-                        t[1] += d[0] * cp[g][1];
-                    }
-                    out.push(SlavePoint {
-                        element: e,
-                        conn: basis.indices.clone(),
-                        basis: basis.values.clone(),
-                        weight: wq * t[0].hypot(t[1]),
-                    });
-                }
+                interval_points(&self.face, e, (w[0], w[1]), &self.rule, &mut out);
             }
         }
         Ok((out, found))
+    }
+}
+
+/// Appends to `out` the Gauss points of `rule` on the parameter interval
+/// `(a, b)` of element `e` of the slave face curve `face` (weights with the
+/// reference line Jacobian).
+pub fn interval_points(
+    face: &ThbPatch,
+    e: usize,
+    (a, b): (f64, f64),
+    rule: &GaussLegendre,
+    out: &mut Vec<SlavePoint>,
+) {
+    let (mut scratch, mut basis) = (TensorBasis::default(), RationalBasis::default());
+    let cp = face.control_points();
+    for (xi, wq) in rule.on_interval(a, b) {
+        face.element_basis_into(e, &[xi], 1, &mut scratch, &mut basis);
+        let mut t = [0.0; 2];
+        for (&g, d) in basis.indices.iter().zip(&basis.d1) {
+            t[0] += d[0] * cp[g][0];
+            t[1] += d[0] * cp[g][1];
+        }
+        out.push(SlavePoint {
+            element: e,
+            conn: basis.indices.clone(),
+            basis: basis.values.clone(),
+            weight: wq * t[0].hypot(t[1]),
+        });
     }
 }
 

@@ -317,39 +317,23 @@ pub fn measure(model: &Model, alpha: f64) -> Result<InterfaceMeasures> {
         .ok_or_else(|| Error::Geometry("the model has no contact interface".into()))?;
     let s = model.scales;
     let ns = c.n_slave();
-    // Contact fraction: the AL indicator pN^I = λ − εN g^I is the pressure inside
-    // the contact zone and the (scaled) gap outside; its zero crossing between
-    // neighbouring slave control points (Greville positions) locates the edge.
+    // Contact fraction: the projected length of the contact zone, where the
+    // pressure indicator interpolated from the slave control points is
+    // positive (edges inside elements, [`crate::contact::mortar::ContactZone`]).
     let xs: Vec<f64> = c.slave_nodes.iter().map(|&n| model.node_x(n)).collect();
-    // Computed from the multipliers also in the thermal phase, where
-    // `pressure` returns the frozen, clipped pressures that carry no gap.
-    let ind: Vec<f64> = (0..ns)
-        .map(|i| c.lambda_n[i] - c.eps_n * c.weighted_gap(i))
-        .collect();
-    let (mut contact, mut total) = (0.0, 0.0);
-    for i in 0..ns - 1 {
-        let dx = (xs[i + 1] - xs[i]).abs();
-        total += dx;
-        let (a, b) = (ind[i], ind[i + 1]);
-        contact += match (a > 0.0, b > 0.0) {
-            (true, true) => dx,
-            (false, false) => 0.0,
-            (true, false) => dx * a / (a - b),
-            (false, true) => dx * b / (b - a),
-        };
-    }
-    let mut gsum = 0.0;
-    let mut wsum = 0.0;
-    for (q, st) in c.state.iter().enumerate() {
-        let w = c.points[q].weight;
-        gsum += w * st.gap.value.max(0.0);
-        wsum += w;
-    }
-    let area: f64 = c.lumped_area.iter().sum();
+    let (lo, hi) = xs
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        });
+    let width = hi - lo;
+    let contact = c.contact_length(&model.state);
+    // [pN^α] (3.5): the integral over the rough reference surface divided by
+    // the *projected* area |A| (here the width).
     let ppow: f64 = (0..ns)
-        .map(|i| c.lumped_area[i] * c.pressure(i).max(0.0).powf(alpha))
+        .map(|i| c.surface_area(i) * c.pressure(i).max(0.0).powf(alpha))
         .sum::<f64>()
-        / area;
+        / width;
     let max_jump = (0..ns)
         .filter(|&i| c.is_active(i))
         .map(|i| c.weighted_jump(i).abs())
@@ -359,8 +343,8 @@ pub fn measure(model: &Model, alpha: f64) -> Result<InterfaceMeasures> {
     let lateral_offset =
         top.iter().map(|&n| model.displacement(n, 0)).sum::<f64>() / top.len() as f64;
     Ok(InterfaceMeasures {
-        contact_fraction: if total > 0.0 { contact / total } else { 0.0 },
-        mean_gap: gsum / wsum * s.length,
+        contact_fraction: if width > 0.0 { contact / width } else { 0.0 },
+        mean_gap: c.mean_gap() * s.length,
         mean_pressure_power: ppow * s.stress.powf(alpha),
         max_active_jump: max_jump * s.temperature,
         approach: -model.displacement(pl.nodes[0], pl.field),

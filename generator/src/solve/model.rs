@@ -584,12 +584,16 @@ impl Model {
             && let Some(c) = self.contact.as_mut()
         {
             c.prepare(&self.state, Needs::Values)?;
-            c.freeze();
+            c.freeze(&self.state);
+            // The thermal points (the contact zone) in this configuration.
+            c.prepare(&self.state, Needs::Values)?;
         }
         if coupling != Coupling::Thermal
             && let Some(c) = self.contact.as_mut()
+            && c.frozen.is_some()
         {
-            c.frozen = None;
+            c.thaw();
+            c.prepare(&self.state, Needs::Values)?;
         }
         self.coupling = coupling;
         self.initial = self.state.clone();
