@@ -228,3 +228,51 @@ fn micro_sample_bench_reports_the_iteration_parts() {
         "{e}"
     );
 }
+
+/// Roughness taller than its body (issue 14 item 1): a sinusoid is refused
+/// up front naming `sample.height` and the amplitude; a random surface that
+/// reaches through its body fails the point with that error, not a panic.
+#[test]
+fn roughness_taller_than_the_body_is_a_clear_error() {
+    let sinusoid = r#"
+[sample]
+width = 1.0e-5
+height = 7.0e-6
+[surface.upper]
+kind = "sinusoid"
+rms = 8.0e-6
+wavelength = 1.0e-5
+[surface.lower]
+kind = "flat"
+"#;
+    let e = Case::from_toml(sinusoid, Path::new("."))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("sample.height") && e.contains("1.131"),
+        "names the key and the amplitude √2·rms: {e}"
+    );
+    let random = r#"
+[sample]
+width = 1.0e-5
+height = 1.0e-6
+[surface.upper]
+kind = "random"
+rms = 8.0e-7
+spectrum = "gaussian"
+correlation_length = 2.0e-6
+[surface.lower]
+kind = "flat"
+[discretization]
+elements_upper = [12, 2]
+elements_lower = [10, 2]
+[load]
+pressures = [1.0e4]
+"#;
+    let c = Case::from_toml(random, Path::new(".")).unwrap();
+    let e = PathSolver::new(&c)
+        .err()
+        .expect("the body is folded")
+        .to_string();
+    assert!(e.contains("sample.height"), "{e}");
+}

@@ -12,7 +12,8 @@ use crate::info::Extrapolation;
 ///
 /// Guarantees: the interpolant has no extremum between nodes (it stays within
 /// the two node values of each interval, so monotone data give a monotone
-/// interpolant), and data linear in `x` get the exact slope.
+/// interpolant), and data linear in `x` get the exact slope. At the two end
+/// nodes the slope is the end interval's secant slope.
 pub(crate) fn steffen_slopes(x: &[f64], y: &[f64]) -> Vec<f64> {
     let n = x.len();
     debug_assert_eq!(n, y.len());
@@ -33,19 +34,14 @@ pub(crate) fn steffen_slopes(x: &[f64], y: &[f64]) -> Vec<f64> {
         let p = (s[i - 1] * h[i] + s[i] * h[i - 1]) / (h[i - 1] + h[i]);
         m[i] = (sign(s[i - 1]) + sign(s[i])) * s[i - 1].abs().min(s[i].abs()).min(0.5 * p.abs());
     }
-    // Eqs. (26)–(27): one-sided parabola at the ends, limited.
-    let end = |s0: f64, s1: f64, h0: f64, h1: f64| {
-        let p = s0 * (1.0 + h0 / (h0 + h1)) - s1 * h0 / (h0 + h1);
-        if p * s0 <= 0.0 {
-            0.0
-        } else if p.abs() > 2.0 * s0.abs() {
-            2.0 * s0
-        } else {
-            p
-        }
-    };
-    m[0] = end(s[0], s[1], h[0], h[1]);
-    m[n - 1] = end(s[n - 2], s[n - 3], h[n - 2], h[n - 3]);
+    // End conditions: the one-sided secant slope of the end interval (not
+    // Steffen's Eqs. (26)–(27), whose limited parabola gives a zero slope
+    // where the data bend towards the end, e.g. the flattening jump at the
+    // low-pressure end of a law, where the data's slope is clearly not
+    // zero). With the interior slopes bounded by 2|s| (Eq. (13)) the end
+    // interval stays monotone (Fritsch–Carlson: α = 1, β ≤ 2).
+    m[0] = s[0];
+    m[n - 1] = s[n - 2];
     m
 }
 
@@ -290,6 +286,25 @@ mod tests {
         let f = [y[w.i0], m[w.i0], y[w.i1], m[w.i1]];
         let dot = |c: [f64; 4]| c.iter().zip(f).map(|(a, b)| a * b).sum::<f64>();
         (dot(w.c), dot(w.dc))
+    }
+
+    /// Data that bend towards an end (issue 13 item 4): the end slope is the
+    /// end interval's secant slope, not zero (Steffen's Eqs. (26)–(27) gave
+    /// 0 here), and the end interval stays monotone.
+    #[test]
+    fn end_slopes_are_the_one_sided_secants() {
+        let x = [0.0, 1.0, 2.0, 3.0];
+        let y = [10.0, 9.9, 1.0, 0.9];
+        let m = steffen_slopes(&x, &y);
+        assert!((m[0] + 0.1).abs() < 1e-12, "lower end slope {}", m[0]);
+        assert!((m[3] + 0.1).abs() < 1e-12, "upper end slope {}", m[3]);
+        let mut last = f64::INFINITY;
+        for k in 0..=300 {
+            let q = 3.0 * k as f64 / 300.0;
+            let (v, d) = hermite(&x, &y, &m, q);
+            assert!(v <= last + 1e-12 && d <= 1e-12, "monotone at {q}: {v}, {d}");
+            last = v;
+        }
     }
 
     #[test]

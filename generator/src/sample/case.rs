@@ -335,6 +335,25 @@ impl Case {
         self.surface
             .lower
             .validate("surface.lower", self.sample.width)?;
+        // A sinusoid's crest must stay inside its body (random surfaces are
+        // checked when generated).
+        for (key, spec) in [
+            ("upper", &self.surface.upper),
+            ("lower", &self.surface.lower),
+        ] {
+            if let SurfaceSpec::Sinusoid { rms, .. } = spec
+                && std::f64::consts::SQRT_2 * rms >= self.sample.height
+            {
+                return Err(Error::invalid(
+                    "sample.height",
+                    format!("{:e} m", self.sample.height),
+                    format!(
+                        "more than the amplitude √2·rms = {:e} m of surface.{key} (its crest would reach through the body)",
+                        std::f64::consts::SQRT_2 * rms
+                    ),
+                ));
+            }
+        }
         self.materials()?;
         let d = &self.discretization;
         if !(1..=5).contains(&d.degree) {

@@ -9,7 +9,8 @@
 
 use crate::bulk::Coupling;
 use crate::geometry::{
-    FitMethod, NurbsPatch, RoughFace, Side, SurfaceFit, ThbPatch, fit_height_function, rough_block,
+    FitMethod, NurbsPatch, RoughFace, Side, SurfaceFit, ThbPatch, fit_height_function,
+    try_rough_block,
 };
 use crate::material::Material;
 use crate::sample::case::{Case, LateralCondition, MasterBody, TopLateral};
@@ -115,22 +116,38 @@ pub fn build_model(
     let w = case.sample.width;
     let h = case.sample.height;
     let d = &case.discretization;
-    let lower_patch = rough_block(
+    // A surface taller than the body would fold it: a clear error naming
+    // the key (random samples are only known here).
+    let block = |fit: &SurfaceFit, z: (f64, f64), face: RoughFace, n: usize| {
+        try_rough_block(fit, z.0, z.1, face, d.degree, n).map_err(|_| {
+            let peak = fit.heights.iter().fold(0.0f64, |m, z| m.max(z.abs()));
+            Error::invalid(
+                "sample.height",
+                format!("{h:e} m"),
+                format!(
+                    "more than the rough surface's largest control height {peak:e} m \
+                     (surface.{} reaches through its body)",
+                    if face == RoughFace::Top {
+                        "lower"
+                    } else {
+                        "upper"
+                    }
+                ),
+            )
+        })
+    };
+    let lower_patch = block(
         &geo.fit_lower,
-        0.0,
-        -h,
+        (0.0, -h),
         RoughFace::Top,
-        d.degree,
         d.elements_lower[1],
-    );
-    let upper_patch = rough_block(
+    )?;
+    let upper_patch = block(
         &geo.fit_upper,
-        geo.g0,
-        h + geo.g0,
+        (geo.g0, h + geo.g0),
         RoughFace::Bottom,
-        d.degree,
         d.elements_upper[1],
-    );
+    )?;
     let periodic = case.sample.lateral == LateralCondition::Periodic;
     let lower_patch = interface_refined(&lower_patch, Side::High, d.interface_levels, periodic);
     let upper_patch = interface_refined(&upper_patch, Side::Low, d.interface_levels, periodic);
