@@ -516,9 +516,11 @@ fn solve(path: &std::path::Path, json: bool, vtk: Option<std::path::PathBuf>) ->
     };
     // The lateral offset of the upper body only when its top face slides.
     let sliding = case.sample.top_lateral == tcgen::sample::case::TopLateral::Free;
+    // The error estimate, unknowns and levels of the adaptive meshes.
+    let adaptive = case.discretization.target_error.is_some();
     if !json {
         println!(
-            "{:>12} {:>9} {:>12} {:>12}{} {:>12} {:>12} {:>6} {:>6}  status",
+            "{:>12} {:>9} {:>12} {:>12}{} {:>12}{} {:>12} {:>6} {:>6}  status",
             "pressure/Pa",
             "contact",
             "mean_gap/m",
@@ -529,6 +531,11 @@ fn solve(path: &std::path::Path, json: bool, vtk: Option<std::path::PathBuf>) ->
                 String::new()
             },
             "jump/K",
+            if adaptive {
+                format!(" {:>9} {:>7} {:>7}", "error/K", "dofs", "levels")
+            } else {
+                String::new()
+            },
             "k/(W/m2K)",
             "newton",
             "sc"
@@ -539,12 +546,15 @@ fn solve(path: &std::path::Path, json: bool, vtk: Option<std::path::PathBuf>) ->
         if json {
             println!("{}", serde_json::to_string(r).expect("serializable"));
         } else {
-            let status = match &r.status {
-                tcgen::homogenize::Status::Converged => "converged".to_string(),
-                tcgen::homogenize::Status::Failed(m) => format!("FAILED: {m}"),
+            let status = match (&r.status, r.error_target_met) {
+                (tcgen::homogenize::Status::Converged, Some(false)) => {
+                    "converged, error target NOT met".to_string()
+                }
+                (tcgen::homogenize::Status::Converged, _) => "converged".to_string(),
+                (tcgen::homogenize::Status::Failed(m), _) => format!("FAILED: {m}"),
             };
             println!(
-                "{:>12.4e} {:>9.4} {:>12.4e} {:>12.4e}{} {:>12.6e} {:>12.4e} {:>6} {:>6}  {status}",
+                "{:>12.4e} {:>9.4} {:>12.4e} {:>12.4e}{} {:>12.6e}{} {:>12.4e} {:>6} {:>6}  {status}",
                 r.pressure,
                 r.interface.contact_fraction,
                 r.interface.mean_gap,
@@ -555,6 +565,16 @@ fn solve(path: &std::path::Path, json: bool, vtk: Option<std::path::PathBuf>) ->
                     String::new()
                 },
                 r.jump,
+                if adaptive {
+                    format!(
+                        " {:>9} {:>7} {:>7}",
+                        r.jump_error.map_or("-".into(), |e| format!("{e:.2e}")),
+                        r.dofs,
+                        format!("{}/{}", r.levels[1], r.levels[0])
+                    )
+                } else {
+                    String::new()
+                },
                 r.conductance,
                 r.newton_iterations,
                 r.self_consistency_iterations

@@ -471,6 +471,18 @@ impl ContactInterface {
         out
     }
 
+    /// The slave face (reference configuration), its control points in the
+    /// order of `slave_nodes`.
+    pub fn slave_face(&self) -> &ThbPatch {
+        &self.slave_face
+    }
+
+    /// The master face (reference configuration), its control points in the
+    /// order of `master_nodes`.
+    pub fn master_face(&self) -> &ThbPatch {
+        &self.master_face
+    }
+
     /// Number of slave control points (= multipliers per family).
     pub fn n_slave(&self) -> usize {
         self.slave_nodes.len()
@@ -911,7 +923,12 @@ impl ContactInterface {
                 let right = (xi, eval(e, xi));
                 if (left.1 > 0.0) != (right.1 > 0.0) {
                     let (mut lo, mut hi) = (left.0, right.0);
-                    while hi - lo > (b - a) * 1e-14 {
+                    // To round-off (a fixed count: a relative width may
+                    // lie below the spacing of doubles near ξ).
+                    for _ in 0..64 {
+                        if hi - lo <= (b - a) * 1e-14 {
+                            break;
+                        }
                         let m = 0.5 * (lo + hi);
                         if (eval(e, m) > 0.0) == (left.1 > 0.0) {
                             lo = m;

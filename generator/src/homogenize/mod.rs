@@ -5,6 +5,7 @@
 //! (Sect. 3.3).
 
 pub mod abp;
+pub mod adapt;
 pub mod hbp;
 pub mod path;
 

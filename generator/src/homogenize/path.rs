@@ -7,11 +7,12 @@ use serde::Serialize;
 use crate::bulk::Coupling;
 use crate::geometry::Side;
 use crate::homogenize::abp::{AbpProperties, AbpTemperatures, accompanying_bar};
+use crate::homogenize::adapt::{mark_contact_edges, refine_bodies, transfer_state};
 use crate::material::Material;
 use crate::sample::case::{Case, MasterBody, Method};
 use crate::sample::micro::{
-    InterfaceMeasures, LOWER, SampleGeometry, ThermalBc, UPPER, build_model, case_geometry,
-    measure, slave_body,
+    Bodies, InterfaceMeasures, LOWER, SampleGeometry, ThermalBc, UPPER, build_model_on,
+    case_bodies, case_geometry, measure, place_at_first_touch, slave_body,
 };
 use crate::solve::{Model, Newton, NonlinearProblem};
 use crate::{Error, Result};
@@ -50,8 +51,20 @@ pub struct PointResult {
     pub interface: InterfaceMeasures,
     /// Self-consistency iterations (0 when not self-consistent).
     pub self_consistency_iterations: usize,
-    /// Newton iterations spent on this point (all phases).
+    /// Newton iterations spent on this point (all phases, every adaptive level).
     pub newton_iterations: usize,
+    /// Estimated discretization error of `jump` (K): the two-level estimate
+    /// of the adaptive refinement ([`two_level_estimate`]); `None` on a
+    /// fixed mesh or where no finer level could be solved.
+    pub jump_error: Option<f64>,
+    /// With a target error: whether the estimate met it (`false`: the point
+    /// stopped at `max_dofs`, `max_levels` or a failed level, and reports
+    /// its best jump with its estimate). `None` on a fixed mesh.
+    pub error_target_met: Option<bool>,
+    /// Unknowns of the mesh of `jump`: `(d + 1)` per control point.
+    pub dofs: usize,
+    /// The finest refinement level of each body, `[lower, upper]`.
+    pub levels: [usize; 2],
     /// Whether the point converged.
     pub converged: bool,
     /// Status and reason.
@@ -73,6 +86,10 @@ impl PointResult {
             interface: InterfaceMeasures::default(),
             self_consistency_iterations: 0,
             newton_iterations: 0,
+            jump_error: None,
+            error_target_met: None,
+            dofs: 0,
+            levels: [0, 0],
             converged: false,
             status: Status::Failed(reason),
         }
@@ -90,6 +107,8 @@ pub struct PathSolver<'a> {
     alpha: f64,
     /// Sample geometry (fits, `g0`).
     pub geometry: SampleGeometry,
+    /// The bodies of the model (SI units; the model holds them scaled).
+    pub bodies: Bodies,
     vtk: Option<std::path::PathBuf>,
     points: usize,
     history: Vec<f64>,
@@ -98,8 +117,18 @@ pub struct PathSolver<'a> {
 impl<'a> PathSolver<'a> {
     /// Prepares the model of a case.
     pub fn new(case: &'a Case) -> Result<Self> {
-        let materials = case.materials()?;
         let geometry = case_geometry(case)?;
+        Self::build(case, geometry, None)
+    }
+
+    /// The solver of a case on given (refined) bodies, in their reference
+    /// positions: its state is to be set (`adapt::transfer_state`).
+    pub fn with_bodies(case: &'a Case, geometry: SampleGeometry, bodies: Bodies) -> Result<Self> {
+        Self::build(case, geometry, Some(bodies))
+    }
+
+    fn build(case: &'a Case, geometry: SampleGeometry, bodies: Option<Bodies>) -> Result<Self> {
+        let materials = case.materials()?;
         let theta_c = case.load.contact_temperature;
         let coupling = match case.homogenization.method {
             Method::Coupled | Method::Linearized => Coupling::Coupled,
@@ -110,7 +139,16 @@ impl<'a> PathSolver<'a> {
             master_face_temperature: theta_c,
             flux: 1.0,
         };
-        let model = build_model(case, &geometry, (&materials.0, &materials.1), bc, coupling)?;
+        let mats = (&materials.0, &materials.1);
+        let (model, bodies) = match bodies {
+            None => {
+                let bodies = case_bodies(case, &geometry)?;
+                let mut model = build_model_on(case, bodies.clone(), mats, bc, coupling)?;
+                place_at_first_touch(case, &geometry, &mut model)?;
+                (model, bodies)
+            }
+            Some(b) => (build_model_on(case, b.clone(), mats, bc, coupling)?, b),
+        };
         let alpha = match case.contact.thermal {
             crate::contact::ThermalContact::Constitutive {
                 pressure_exponent, ..
@@ -125,6 +163,7 @@ impl<'a> PathSolver<'a> {
             last_pressure: 0.0,
             alpha,
             geometry,
+            bodies,
             vtk: None,
             points: 0,
             history: Vec::new(),
@@ -217,6 +256,16 @@ impl<'a> PathSolver<'a> {
             interface,
             self_consistency_iterations: sc,
             newton_iterations: newton,
+            jump_error: None,
+            error_target_met: None,
+            dofs: (self.model.dim + 1)
+                * self
+                    .model
+                    .bodies
+                    .iter()
+                    .map(|b| b.patch.n_control_points())
+                    .sum::<usize>(),
+            levels: [LOWER, UPPER].map(|b| self.model.bodies[b].patch.mesh().n_levels() - 1),
             converged: true,
             status: Status::Converged,
         }
@@ -304,16 +353,140 @@ impl<'a> PathSolver<'a> {
     }
 
     /// Two-phase (self-consistent) jumps at one pressure for several fluxes
-    /// (W/m², > 0). The mechanical phase at θ̄c and the first thermal phase
-    /// are shared by all fluxes: with every property frozen the thermal phase
-    /// is linear in `h̄`, so its solution for a unit flux scales exactly. Each
-    /// flux then runs its own self-consistency iterations from that state.
-    /// A flux whose iterations fail is reported as failed; the others go on.
+    /// (W/m², > 0), on the case's mesh, or adaptively refined from it until
+    /// the estimated error of every flux's jump meets
+    /// `[discretization] target_error` ([`PathSolver::adapt`]).
     pub fn solve_pressure_fluxes(
         &mut self,
         pressure: f64,
         fluxes: &[f64],
     ) -> Result<Vec<PointResult>> {
+        let coarse = self.solve_fluxes_on_mesh(pressure, fluxes)?;
+        match self.case.discretization.target_error {
+            Some(target) if coarse.iter().all(|r| r.converged) => {
+                self.adapt(pressure, fluxes, coarse, target)
+            }
+            _ => Ok(coarse),
+        }
+    }
+
+    /// The adaptive loop at one pressure: from the solved case mesh (which
+    /// stays on the path, for continuation), mark the contact edges, refine,
+    /// carry the state over, solve again at the same loads; stop when every
+    /// flux's [`two_level_estimate`] is below `target` times its jump (after
+    /// at least [`MIN_ADAPTIVE_LEVELS`] levels), or at `max_levels`,
+    /// `max_dofs` or a level that fails (then flagged, with the last
+    /// estimate).
+    fn adapt(
+        &mut self,
+        pressure: f64,
+        fluxes: &[f64],
+        coarse: Vec<PointResult>,
+        target: f64,
+    ) -> Result<Vec<PointResult>> {
+        let case = self.case;
+        let d = &case.discretization;
+        let slave = slave_body(case);
+        let trace = std::env::var_os("TCGEN_ADAPT_TRACE").is_some();
+        let mut iterations: usize = coarse
+            .iter()
+            .map(|r| r.newton_iterations)
+            .max()
+            .unwrap_or(0);
+        let mut best = coarse;
+        let mut diffs: Vec<Vec<f64>> = Vec::new();
+        let mut estimate: Option<Vec<f64>> = None;
+        let mut met = false;
+        let mut fine: Option<PathSolver<'a>> = None;
+        for level in 1..=d.max_levels {
+            let (src, src_bodies) = match fine.as_mut() {
+                Some(f) => (&mut f.model, &f.bodies),
+                None => (&mut self.model, &self.bodies),
+            };
+            src.prepare_contact()?;
+            let marks = mark_contact_edges(src, slave)?;
+            let bodies = refine_bodies(src_bodies, &marks);
+            let dofs = (src.dim + 1) * bodies.n_control_points();
+            if dofs > d.max_dofs {
+                if trace {
+                    eprintln!(
+                        "adapt {pressure:e} Pa: level {level} would have {dofs} unknowns > max_dofs"
+                    );
+                }
+                break;
+            }
+            let mut next = PathSolver::with_bodies(case, self.geometry.clone(), bodies)?;
+            transfer_state(src, &mut next.model);
+            next.last_pressure = pressure;
+            let solved = match next.solve_fluxes_on_mesh(pressure, fluxes) {
+                Ok(r) if r.iter().all(|r| r.converged) => r,
+                other => {
+                    if trace {
+                        let why = match other {
+                            Ok(r) => {
+                                format!("{:?}", r.iter().map(|r| &r.status).collect::<Vec<_>>())
+                            }
+                            Err(e) => e.to_string(),
+                        };
+                        eprintln!(
+                            "adapt {pressure:e} Pa: level {level} failed ({why}); keeping level {}",
+                            level - 1
+                        );
+                    }
+                    break;
+                }
+            };
+            iterations += solved
+                .iter()
+                .map(|r| r.newton_iterations)
+                .max()
+                .unwrap_or(0);
+            let diff: Vec<f64> = solved
+                .iter()
+                .zip(&best)
+                .map(|(f, c)| (f.jump - c.jump).abs())
+                .collect();
+            let est: Vec<f64> = (0..diff.len())
+                .map(|i| two_level_estimate(diff[i], diffs.last().map(|p| p[i])))
+                .collect();
+            diffs.push(diff);
+            best = solved;
+            if trace {
+                eprintln!(
+                    "adapt {pressure:e} Pa: level {level}, {} unknowns, levels {:?}, jump {:?}, estimate {:?}, contact {:.5}",
+                    best[0].dofs,
+                    best[0].levels,
+                    best.iter().map(|r| r.jump).collect::<Vec<_>>(),
+                    est,
+                    best[0].interface.contact_fraction
+                );
+            }
+            met = level >= MIN_ADAPTIVE_LEVELS
+                && est
+                    .iter()
+                    .zip(&best)
+                    .all(|(e, r)| *e <= target * r.jump.abs());
+            estimate = Some(est);
+            fine = Some(next);
+            if met {
+                break;
+            }
+        }
+        for (i, r) in best.iter_mut().enumerate() {
+            r.jump_error = estimate.as_ref().map(|e| e[i]);
+            r.error_target_met = Some(met);
+            r.newton_iterations = iterations;
+        }
+        Ok(best)
+    }
+
+    /// Two-phase (self-consistent) jumps at one pressure for several fluxes
+    /// (W/m², > 0) on the current mesh. The mechanical phase at θ̄c and the first thermal phase
+    /// are shared by all fluxes: with every property frozen the thermal phase
+    /// is linear in `h̄`, so its solution for a unit flux scales exactly. Each
+    /// flux then runs its own self-consistency iterations from that state.
+    /// A flux whose iterations fail is reported as failed; the others go on.
+    fn solve_fluxes_on_mesh(&mut self, pressure: f64, fluxes: &[f64]) -> Result<Vec<PointResult>> {
         let case = self.case;
         let self_consistent = case.homogenization.method == Method::TwoPhaseSelfConsistent;
         if matches!(
@@ -471,6 +644,20 @@ impl<'a> PathSolver<'a> {
         self.model.set_coupling(Coupling::Mechanical)?;
         Ok((abp, ts, result?, interface))
     }
+}
+
+/// Levels of adaptive refinement before the estimate may stop the loop: the
+/// first difference can be small by chance on a pre-asymptotic coarse mesh.
+pub const MIN_ADAPTIVE_LEVELS: usize = 2;
+
+/// The two-level error estimate of a jump (K) after a refinement level:
+/// `max(d_k, d_{k−1}/4)` with `d_k = |J_k − J_{k−1}|` the change of the jump
+/// over the last level and `d_{k−1}` the one before. For first-order
+/// convergence in the edge element size (the contact edge, halved per level)
+/// the error of `J_k` equals `d_k` asymptotically; the second term keeps a
+/// non-monotone sequence (a difference small by chance) from stopping early.
+pub fn two_level_estimate(d_k: f64, d_previous: Option<f64>) -> f64 {
+    d_k.max(0.25 * d_previous.unwrap_or(0.0))
 }
 
 /// Solves every pressure of a case in order (one path); a failed point is

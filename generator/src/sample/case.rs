@@ -124,6 +124,14 @@ pub struct DiscretizationSection {
     /// elements touching the rough surface are halved this many times, the mesh
     /// graded through the height (admissible of class 2). 0: the tensor mesh.
     pub interface_levels: usize,
+    /// Target relative error of the jump: refine adaptively at the contact
+    /// edges, per pressure, until the estimate is below it
+    /// (`homogenize::adapt`, two-level estimator). `None`: the fixed mesh.
+    pub target_error: Option<f64>,
+    /// Adaptivity stops before a mesh with more unknowns than this.
+    pub max_dofs: usize,
+    /// Adaptivity refines at most this many times per pressure.
+    pub max_levels: usize,
 }
 
 impl Default for DiscretizationSection {
@@ -134,6 +142,9 @@ impl Default for DiscretizationSection {
             elements_lower: [27, 14],
             bulk_points: None,
             interface_levels: 0,
+            target_error: None,
+            max_dofs: 200_000,
+            max_levels: 10,
         }
     }
 }
@@ -389,6 +400,41 @@ impl Case {
                 "discretization.interface_levels",
                 d.interface_levels,
                 format!("an integer in 0..={MAX_LEVELS}"),
+            ));
+        }
+        if let Some(t) = d.target_error
+            && !(t.is_finite() && t > 0.0 && t < 1.0)
+        {
+            return Err(Error::invalid(
+                "discretization.target_error",
+                t,
+                "a relative error in (0, 1), e.g. 0.01",
+            ));
+        }
+        if d.target_error.is_some()
+            && matches!(
+                self.homogenization.method,
+                Method::Coupled | Method::Linearized
+            )
+        {
+            return Err(Error::invalid(
+                "discretization.target_error",
+                d.target_error.unwrap_or_default(),
+                "absent with homogenization.method = \"coupled\" or \"linearized\" (adaptivity runs the two-phase methods)",
+            ));
+        }
+        if d.max_dofs < 16 {
+            return Err(Error::invalid(
+                "discretization.max_dofs",
+                d.max_dofs,
+                "an integer ≥ 16",
+            ));
+        }
+        if !(1..=MAX_LEVELS).contains(&d.max_levels) {
+            return Err(Error::invalid(
+                "discretization.max_levels",
+                d.max_levels,
+                format!("an integer in 1..={MAX_LEVELS}"),
             ));
         }
         self.contact.validate()?;

@@ -105,15 +105,40 @@ pub struct ThermalBc {
     pub flux: f64,
 }
 
-/// Builds the micro-sample model for a case with materials (upper, lower).
-pub fn build_model(
-    case: &Case,
-    geo: &SampleGeometry,
-    materials: (&Material, &Material),
-    bc: ThermalBc,
-    coupling: Coupling,
-) -> Result<Model> {
-    let w = case.sample.width;
+/// The two bodies of a micro-sample as THB patches, before any refinement
+/// driven by the solution: the rough blocks of the case's meshes refined
+/// `interface_levels` times at the interface.
+#[derive(Clone, Debug)]
+pub struct Bodies {
+    /// Body 2, below the interface.
+    pub lower: ThbPatch,
+    /// Body 1, above it.
+    pub upper: ThbPatch,
+}
+
+impl Bodies {
+    /// The body of index [`LOWER`] or [`UPPER`].
+    pub fn get(&self, body: usize) -> &ThbPatch {
+        if body == LOWER {
+            &self.lower
+        } else {
+            &self.upper
+        }
+    }
+
+    /// Control points of both bodies.
+    pub fn n_control_points(&self) -> usize {
+        self.lower.n_control_points() + self.upper.n_control_points()
+    }
+
+    /// The finest refinement level of each body, `[lower, upper]`.
+    pub fn levels(&self) -> [usize; 2] {
+        [&self.lower, &self.upper].map(|b| b.mesh().n_levels() - 1)
+    }
+}
+
+/// The bodies of a case (see [`Bodies`]).
+pub fn case_bodies(case: &Case, geo: &SampleGeometry) -> Result<Bodies> {
     let h = case.sample.height;
     let d = &case.discretization;
     // A surface taller than the body would fold it: a clear error naming
@@ -149,8 +174,59 @@ pub fn build_model(
         d.elements_upper[1],
     )?;
     let periodic = case.sample.lateral == LateralCondition::Periodic;
-    let lower_patch = interface_refined(&lower_patch, Side::High, d.interface_levels, periodic);
-    let upper_patch = interface_refined(&upper_patch, Side::Low, d.interface_levels, periodic);
+    Ok(Bodies {
+        lower: interface_refined(&lower_patch, Side::High, d.interface_levels, periodic),
+        upper: interface_refined(&upper_patch, Side::Low, d.interface_levels, periodic),
+    })
+}
+
+/// Builds the micro-sample model for a case with materials (upper, lower):
+/// the bodies of [`case_bodies`], positioned at first touch.
+pub fn build_model(
+    case: &Case,
+    geo: &SampleGeometry,
+    materials: (&Material, &Material),
+    bc: ThermalBc,
+    coupling: Coupling,
+) -> Result<Model> {
+    let bodies = case_bodies(case, geo)?;
+    let mut model = build_model_on(case, bodies, materials, bc, coupling)?;
+    place_at_first_touch(case, geo, &mut model)?;
+    Ok(model)
+}
+
+/// Moves the upper body of a model in its reference position to first
+/// touch (after the rigid slide to equilibrium with a free sliding top, PR).
+pub fn place_at_first_touch(case: &Case, geo: &SampleGeometry, model: &mut Model) -> Result<()> {
+    if case.sample.lateral == LateralCondition::Periodic
+        && case.sample.top_lateral == TopLateral::Free
+    {
+        // Start from the rigid bodies' equilibrium: the upper body slid to
+        // the offset where it first touches lowest (Newton then corrects it
+        // for elasticity, instead of sliding a wavelength fraction itself).
+        let s = model.scales.len(rigid_sliding_offset(case, geo));
+        let nf = model.dim + 1;
+        let b = &model.bodies[UPPER];
+        for n in b.node_offset..b.node_offset + b.patch.n_control_points() {
+            model.state[n * nf] = s;
+        }
+    }
+    model.touch(UPPER, 1)
+}
+
+/// The micro-sample model on given bodies, in their reference positions
+/// (no first-touch positioning: a refined model takes its state from the
+/// coarser one, `homogenize::adapt`).
+pub fn build_model_on(
+    case: &Case,
+    bodies: Bodies,
+    materials: (&Material, &Material),
+    bc: ThermalBc,
+    coupling: Coupling,
+) -> Result<Model> {
+    let w = case.sample.width;
+    let d = &case.discretization;
+    let (lower_patch, upper_patch) = (bodies.lower, bodies.upper);
     let mut mb = ModelBuilder::new(2, Scales::new(w, materials.1));
     if let Some(n) = d.bulk_points {
         mb = mb.bulk_points(n);
@@ -200,20 +276,7 @@ pub fn build_model(
         MasterBody::Upper => ((lo, 1, Side::High), (up, 1, Side::Low)),
     };
     mb.contact(cs, cm, &case.contact, period)?;
-    let mut model = mb.build(coupling)?;
-    if sliding {
-        // Start from the rigid bodies' equilibrium: the upper body slid to
-        // the offset where it first touches lowest (Newton then corrects it
-        // for elasticity, instead of sliding a wavelength fraction itself).
-        let s = model.scales.len(rigid_sliding_offset(case, geo));
-        let nf = model.dim + 1;
-        let b = &model.bodies[UPPER];
-        for n in b.node_offset..b.node_offset + b.patch.n_control_points() {
-            model.state[n * nf] = s;
-        }
-    }
-    model.touch(UPPER, 1)?;
-    Ok(model)
+    mb.build(coupling)
 }
 
 /// The THB patch of a body refined `levels` times at its rough face (`side` of

@@ -657,6 +657,15 @@ impl Model {
         Ok(())
     }
 
+    /// Projects the contact points at the current state (gaps, jumps and
+    /// the pressure indicator up to date, e.g. after a restore).
+    pub fn prepare_contact(&mut self) -> Result<()> {
+        if let Some(c) = self.contact.as_mut() {
+            c.prepare(&self.state, Needs::Values)?;
+        }
+        Ok(())
+    }
+
     /// The current coupling.
     pub fn coupling(&self) -> Coupling {
         self.coupling

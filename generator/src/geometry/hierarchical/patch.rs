@@ -436,7 +436,7 @@ impl ThbPatch {
     }
 
     /// The cell of the volume element adjacent to face cell `c` of face (`dir`, `side`).
-    fn volume_cell(&self, c: Cell, dir: usize, side: Side) -> Cell {
+    pub fn face_volume_cell(&self, c: Cell, dir: usize, side: Side) -> Cell {
         let dim = self.param_dim();
         let mut index = [0u32; 3];
         let mut k = 0;
@@ -483,7 +483,7 @@ impl ThbPatch {
         );
         let mut out = Vec::with_capacity(face.n_elements());
         for (fe, fel) in face.elements().iter().enumerate() {
-            let cell = self.volume_cell(fel.cell, dir, side);
+            let cell = self.face_volume_cell(fel.cell, dir, side);
             let e = self
                 .basis
                 .element_of(cell)

@@ -1,0 +1,142 @@
+//! Adaptive local refinement at the contact interface (issue 11): mark the
+//! elements at the contact edges, refine them (truncated hierarchical
+//! B-splines, [`ThbPatch::refined`]), and carry the solved state over to the
+//! refined bodies exactly (nested spaces, [`ThbPatch::prolongate`]).
+//!
+//! **Marking (contact-edge indicator).** The jump is limited by the
+//! constriction of the heat flow through the contact spots, whose flux is
+//! singular at the spot edges (`~ d^(−1/2)`, Hertz/Westergaard), and by the
+//! position of the edges themselves (the contact zone is located to a
+//! fraction of an element). Both errors live in the elements at the edges:
+//! the slave face elements whose control points are partly in and partly out
+//! of contact (the pressure indicator `λN − εN g` changes sign among them),
+//! with their neighbours, and the master elements their points project onto,
+//! with theirs. Where no edge exists (no or full contact) the whole
+//! interface layer is marked. Each volume element at a marked face element
+//! is halved in every direction; class-2 admissibility grades the mesh
+//! through the height.
+//!
+//! Dimension-generic: faces are THB patches of dimension `d − 1`, the
+//! neighbours are the face elements whose parametric boxes touch.
+
+use std::collections::BTreeSet;
+
+use crate::contact::ContactInterface;
+use crate::geometry::{Cell, Side, ThbPatch};
+use crate::sample::micro::{Bodies, LOWER, UPPER};
+use crate::solve::Model;
+use crate::{Error, Result};
+
+/// Volume cells to refine in each body.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Marks {
+    /// Cells of the lower body.
+    pub lower: Vec<Cell>,
+    /// Cells of the upper body.
+    pub upper: Vec<Cell>,
+}
+
+impl Marks {
+    fn of(&mut self, body: usize) -> &mut Vec<Cell> {
+        if body == LOWER {
+            &mut self.lower
+        } else {
+            &mut self.upper
+        }
+    }
+}
+
+/// The face elements of `face` whose parametric boxes touch one of `set`
+/// (the set included).
+fn with_neighbours(face: &ThbPatch, set: &BTreeSet<usize>) -> BTreeSet<usize> {
+    let els = face.elements();
+    let dims = face.param_dim();
+    let tol = 1e-12;
+    let mut out = set.clone();
+    for &e in set {
+        let a = &els[e];
+        for (f, b) in els.iter().enumerate() {
+            if (0..dims).all(|d| b.lower[d] <= a.upper[d] + tol && b.upper[d] >= a.lower[d] - tol) {
+                out.insert(f);
+            }
+        }
+    }
+    out
+}
+
+/// The contact-edge marks of a solved model whose contact interface is
+/// prepared at the current state (point projections up to date); `slave`
+/// the index of the slave body ([`LOWER`] or [`UPPER`]).
+pub fn mark_contact_edges(model: &Model, slave: usize) -> Result<Marks> {
+    let c: &ContactInterface = model
+        .contact
+        .as_ref()
+        .ok_or_else(|| Error::Geometry("adaptivity needs a contact interface".into()))?;
+    let master = if slave == UPPER { LOWER } else { UPPER };
+    let (sface, mface) = (c.slave_face(), c.master_face());
+    let indicator: Vec<f64> = (0..c.n_slave()).map(|i| c.indicator(i)).collect();
+    let edges: BTreeSet<usize> = sface
+        .elements()
+        .iter()
+        .enumerate()
+        .filter(|(_, el)| {
+            let inside = el.functions.iter().filter(|&&i| indicator[i] > 0.0).count();
+            inside > 0 && inside < el.functions.len()
+        })
+        .map(|(e, _)| e)
+        .collect();
+    let (slave_set, master_set) = if edges.is_empty() {
+        (
+            (0..sface.n_elements()).collect(),
+            (0..mface.n_elements()).collect(),
+        )
+    } else {
+        let slave_set = with_neighbours(sface, &edges);
+        let seen: BTreeSet<usize> = c
+            .points
+            .iter()
+            .zip(&c.state)
+            .filter(|(p, _)| slave_set.contains(&p.element))
+            .map(|(_, st)| st.projection.element)
+            .collect();
+        (slave_set, with_neighbours(mface, &seen))
+    };
+    let mut marks = Marks::default();
+    for (body, face, set) in [(slave, sface, slave_set), (master, mface, master_set)] {
+        let patch = &model.bodies[body].patch;
+        let normal = patch.param_dim() - 1;
+        let side = if body == UPPER { Side::Low } else { Side::High };
+        let cells = marks.of(body);
+        for e in set {
+            cells.push(patch.face_volume_cell(face.elements()[e].cell, normal, side));
+        }
+    }
+    Ok(marks)
+}
+
+/// The bodies (SI units, as built for the model) with the marked cells refined.
+pub fn refine_bodies(bodies: &Bodies, marks: &Marks) -> Bodies {
+    Bodies {
+        lower: bodies.lower.refined(&marks.lower),
+        upper: bodies.upper.refined(&marks.upper),
+    }
+}
+
+/// Carries the state of `from` (displacements, temperatures, contact
+/// multipliers) over to `to`, built on refinements of its bodies: the
+/// fields exactly, the lumped multipliers as coefficients on the refined
+/// slave face (a starting guess for Newton).
+pub fn transfer_state(from: &Model, to: &mut Model) {
+    let nf = from.dim + 1;
+    for (old, new) in from.bodies.iter().zip(&to.bodies) {
+        let n = old.patch.n_control_points();
+        let values = &from.state[old.node_offset * nf..(old.node_offset + n) * nf];
+        let fine = old.patch.prolongate(&new.patch, values, nf);
+        to.state[new.node_offset * nf..new.node_offset * nf + fine.len()].copy_from_slice(&fine);
+    }
+    if let (Some(a), Some(b)) = (from.contact.as_ref(), to.contact.as_mut()) {
+        let (old, new) = (a.slave_face(), b.slave_face().clone());
+        b.lambda_n = old.prolongate(&new, &a.lambda_n, 1);
+        b.lambda_t = old.prolongate(&new, &a.lambda_t, 1);
+    }
+}
