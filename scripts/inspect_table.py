@@ -39,6 +39,13 @@ def summary(ds: xr.Dataset) -> str:
             lines.append(
                 f"  {name:<12} [{np.nanmin(v):.4g} .. {np.nanmax(v):.4g}] {ds[name].attrs.get('units')}"
             )
+    if "jump_discretization_error" in ds and np.isfinite(ds["jump_discretization_error"].values).any():
+        rel = (ds["jump_discretization_error"] / ds["jump_mean"]).values
+        met = ds["error_target_met"].values
+        lines.append(
+            f"  discretization error of jump_mean: {np.nanmin(rel):.2%} .. {np.nanmax(rel):.2%}"
+            f" (target not met at {int(np.nansum(met == 0))} of {int(np.isfinite(met).sum())} points)"
+        )
     failed = np.argwhere(status == 1)
     for idx in failed[:5]:
         p, h, t, s = idx

@@ -76,7 +76,7 @@ def check_table(path, config_path):
     for name, unit in UNITS.items():
         assert ds[name].attrs["units"] == unit, name
     assert ds.attrs["Conventions"] == "CF-1.8"
-    assert ds.attrs["schema"] == "tcgen-table" and int(ds.attrs["schema_version"]) == 1
+    assert ds.attrs["schema"] == "tcgen-table" and int(ds.attrs["schema_version"]) == 2
     config = str(ds["config"].values)
     assert hashlib.sha256(config.encode()).hexdigest() == ds.attrs["config_sha256"]
     assert tomllib.loads(config)["sweep"]["samples"] == cfg.get("samples", 1)
@@ -130,7 +130,7 @@ def test_inspect_table_prints_a_summary_and_plots():
         [PYTHON, str(ROOT / "scripts/inspect_table.py"), DEMO, "--png", str(png)],
         check=True, capture_output=True, text=True,
     ).stdout
-    assert "tcgen-table version 1" in out and "points:" in out and "converged" in out
+    assert "tcgen-table version 2" in out and "points:" in out and "converged" in out
     assert png.stat().st_size > 10_000
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     c = WORK / "demo-conductance.png"

@@ -147,6 +147,9 @@ mod tests {
                     mean_gap: 1e-7,
                     self_consistency_iterations: 3,
                     newton_iterations: 10,
+                    jump_error: None,
+                    error_target_met: None,
+                    dofs: 900,
                 });
             }
         }

@@ -259,6 +259,39 @@ pub fn table_to_bytes(t: &Table) -> Result<Vec<u8>> {
         &iters(|v| v.newton_iterations),
         true,
     )?;
+    w.doubles(
+        "jump_error",
+        &d4,
+        "K",
+        "estimated discretization error of the jump (adaptive refinement; missing on a fixed mesh)",
+        &values
+            .iter()
+            .map(|v| v.and_then(|v| v.jump_error).unwrap_or(FILL_DOUBLE))
+            .collect::<Vec<_>>(),
+        true,
+    )?;
+    w.ints(
+        "error_target_met",
+        &d4,
+        "1",
+        "1 where the error estimate met discretization.target_error, 0 where not (missing on a fixed mesh)",
+        &values
+            .iter()
+            .map(|v| {
+                v.and_then(|v| v.error_target_met)
+                    .map_or(FILL_INT, i32::from)
+            })
+            .collect::<Vec<_>>(),
+        true,
+    )?;
+    w.ints(
+        "dofs",
+        &d4,
+        "1",
+        "unknowns of the mesh of the jump",
+        &iters(|v| v.dofs),
+        true,
+    )?;
 
     // Per sample.
     let s = &t.surfaces;
@@ -357,6 +390,17 @@ pub fn table_to_bytes(t: &Table) -> Result<Vec<u8>> {
             true,
         )?;
     }
+    w.doubles(
+        "jump_discretization_error",
+        &d3,
+        "K",
+        "estimated discretization error of jump_mean: the mean of the samples' jump_error (missing on fixed meshes)",
+        &st.jump_discretization_error
+            .iter()
+            .map(|e| e.unwrap_or(FILL_DOUBLE))
+            .collect::<Vec<_>>(),
+        true,
+    )?;
 
     // The configuration, as a scalar string variable (attributes over ~64 KB fail).
     let v =
@@ -489,12 +533,20 @@ pub fn read_table(path: &Path) -> Result<Table> {
         i32s("self_consistency_iterations")?,
         i32s("newton_iterations")?,
     );
+    let (jerr, met, dofs) = (
+        f64s("jump_error")?,
+        i32s("error_target_met")?,
+        i32s("dofs")?,
+    );
     let n = pressure.len() * flux.len() * contact_temperature.len() * samples;
     for (name, len) in [
         ("status", status.len()),
         ("failure_reason", reasons.len()),
         ("jump", jump.len()),
         ("newton_iterations", nw.len()),
+        ("jump_error", jerr.len()),
+        ("error_target_met", met.len()),
+        ("dofs", dofs.len()),
     ] {
         if len != n {
             return Err(Error::Config(format!(
@@ -522,6 +574,9 @@ pub fn read_table(path: &Path) -> Result<Table> {
                 mean_gap: gap[i],
                 self_consistency_iterations: sc[i].max(0) as u32,
                 newton_iterations: nw[i].max(0) as u32,
+                jump_error: (jerr[i] != FILL_DOUBLE && jerr[i].is_finite()).then_some(jerr[i]),
+                error_target_met: (met[i] != FILL_INT).then_some(met[i] != 0),
+                dofs: dofs[i].max(0) as u32,
             }),
         });
     }
@@ -610,6 +665,9 @@ pub(crate) mod tests {
                                 mean_gap: 1e-6 / (1 + ip) as f64,
                                 self_consistency_iterations: 3 + is as u32,
                                 newton_iterations: 20 + ip as u32,
+                                jump_error: (ih == 0).then_some(0.01 * jump),
+                                error_target_met: (ih == 0).then_some(is == 0),
+                                dofs: 900 + 10 * ip as u32,
                             }));
                         }
                     }

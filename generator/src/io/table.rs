@@ -11,7 +11,7 @@ pub const SCHEMA_NAME: &str = "tcgen-table";
 /// Version of the table schema (global attribute `schema_version`). It
 /// changes with the layout, the meaning of a variable, or the random-surface
 /// algorithm ([`crate::surface::random::RANDOM_SURFACE_VERSION`]).
-pub const SCHEMA_VERSION: i32 = 1;
+pub const SCHEMA_VERSION: i32 = 2;
 
 /// What became of one grid point of one sample (variable `status`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -61,6 +61,13 @@ pub struct PointValues {
     pub self_consistency_iterations: u32,
     /// Newton iterations of the point (all phases).
     pub newton_iterations: u32,
+    /// Estimated discretization error of `jump` (K), with a target error
+    /// (adaptive refinement); `None` on a fixed mesh.
+    pub jump_error: Option<f64>,
+    /// Whether the estimate met the target error (`None`: fixed mesh).
+    pub error_target_met: Option<bool>,
+    /// Unknowns of the mesh of the jump.
+    pub dofs: u32,
 }
 
 /// One point of one sample.

@@ -67,6 +67,15 @@ struct PointLine {
     /// Self-consistency and Newton iterations.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     i: Option<[u32; 2]>,
+    /// Bits of the jump's error estimate.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    e: Option<u64>,
+    /// Whether the estimate met the target.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    m: Option<bool>,
+    /// Unknowns.
+    #[serde(default)]
+    d: u32,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -96,6 +105,9 @@ fn to_line(k: usize, o: &PathPiece) -> PathLine {
                 }),
                 i: p.values
                     .map(|v| [v.self_consistency_iterations, v.newton_iterations]),
+                e: p.values.and_then(|v| v.jump_error.map(f64::to_bits)),
+                m: p.values.and_then(|v| v.error_target_met),
+                d: p.values.map_or(0, |v| v.dofs),
             })
             .collect(),
         surfaces: o.surfaces.map(|s| {
@@ -126,6 +138,9 @@ fn from_line(l: PathLine) -> Option<(usize, PathPiece)> {
                     mean_gap: v[3],
                     self_consistency_iterations: i[0],
                     newton_iterations: i[1],
+                    jump_error: p.e.map(f64::from_bits),
+                    error_target_met: p.m,
+                    dofs: p.d,
                 })
             }
             (PointStatus::Converged, _, _) => return None,
@@ -279,6 +294,9 @@ mod tests {
                     mean_gap: 1e-7,
                     self_consistency_iterations: 4,
                     newton_iterations: 22,
+                    jump_error: Some(0.01 * j),
+                    error_target_met: Some(j > 1.0),
+                    dofs: 1234,
                 }),
                 PointRecord::failed("diverged \"x\"\nline"),
             ],

@@ -60,6 +60,10 @@ pub struct EnsembleStatistics {
     pub jump: Vec<Option<Summary>>,
     /// Statistics of the conductance.
     pub conductance: Vec<Option<Summary>>,
+    /// Discretization error of `jump.mean` (K): the mean of the converged
+    /// samples' estimates (a bound, the error of a mean being at most the
+    /// mean of the errors); `None` where a sample has no estimate.
+    pub jump_discretization_error: Vec<Option<f64>>,
 }
 
 /// Computes the statistics of a table over its converged samples.
@@ -70,6 +74,7 @@ pub fn ensemble_statistics(table: &Table) -> EnsembleStatistics {
         converged: Vec::with_capacity(cells),
         jump: Vec::with_capacity(cells),
         conductance: Vec::with_capacity(cells),
+        jump_discretization_error: Vec::with_capacity(cells),
     };
     for cell in table.points.chunks(ns.max(1)) {
         let values: Vec<_> = cell
@@ -84,6 +89,12 @@ pub fn ensemble_statistics(table: &Table) -> EnsembleStatistics {
         out.conductance.push(summarize(
             &values.iter().map(|v| v.conductance).collect::<Vec<_>>(),
         ));
+        let errors: Option<Vec<f64>> = values.iter().map(|v| v.jump_error).collect();
+        out.jump_discretization_error.push(
+            errors
+                .filter(|e| !e.is_empty())
+                .map(|e| e.iter().sum::<f64>() / e.len() as f64),
+        );
     }
     out
 }

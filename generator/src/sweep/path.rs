@@ -54,6 +54,9 @@ pub fn record(r: &PointResult) -> PointRecord {
                 mean_gap: r.interface.mean_gap,
                 self_consistency_iterations: r.self_consistency_iterations as u32,
                 newton_iterations: r.newton_iterations as u32,
+                jump_error: r.jump_error,
+                error_target_met: r.error_target_met,
+                dofs: r.dofs.min(u32::MAX as usize) as u32,
             })
         }
         Status::Converged => PointRecord::failed(format!(
