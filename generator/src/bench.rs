@@ -630,6 +630,10 @@ pub struct MicroBench {
     /// Per phase (mechanical, thermal) at the last pressure: the parts of
     /// one Newton iteration (s, best of three).
     pub iteration: [IterationCost; 2],
+    /// The same path adaptive to 1 % from 16 × 8: wall time (s), the largest
+    /// relative estimate, the points that met the target, the largest
+    /// number of unknowns.
+    pub adaptive: (f64, f64, usize, usize),
 }
 
 /// The parts of one Newton iteration (s).
@@ -732,11 +736,28 @@ pub fn micro_sample_bench(pressures: usize) -> Result<MicroBench> {
         };
     }
     model.set_coupling(Coupling::Mechanical)?;
+    let mut adaptive_case = sect57_case(16, path[0], Some(0.01))?;
+    adaptive_case.load.pressures = path.clone();
+    let t = Instant::now();
+    let points = crate::homogenize::solve_case(&adaptive_case, None, |_| {})?;
+    let adaptive = (
+        t.elapsed().as_secs_f64(),
+        points
+            .iter()
+            .map(|r| r.jump_error.unwrap_or(f64::INFINITY) / r.jump)
+            .fold(0.0, f64::max),
+        points
+            .iter()
+            .filter(|r| r.error_target_met == Some(true))
+            .count(),
+        points.iter().map(|r| r.dofs).max().unwrap_or(0),
+    );
     Ok(MicroBench {
         wall_s,
         newton_iterations: newton,
         self_consistency_iterations: sc,
         iteration,
+        adaptive,
     })
 }
 
@@ -780,6 +801,130 @@ pub fn format_micro_bench(b: &MicroBench) -> String {
     let (m, t) = (b.iteration[0].parts(), b.iteration[1].parts());
     for ((name, a), (_, c)) in m.iter().zip(&t) {
         let _ = writeln!(s, "    {name:<47}{:>11.2} {:>11.2}", 1e3 * a, 1e3 * c);
+    }
+    let (wall, worst, met, dofs) = b.adaptive;
+    let _ = writeln!(
+        s,
+        "  adaptive to target_error = 0.01 from 16 x 8 / 13 x 7: wall time {wall:.2} s; largest \
+         estimate {:.2} % of the jump; target met at {met} of {n} pressures; at most {dofs} unknowns",
+        100.0 * worst
+    );
+    s
+}
+
+/// One row of the accuracy-per-cost benchmark ([`adaptivity_bench`]).
+#[derive(Debug, Clone)]
+pub struct AccuracyRow {
+    /// Pressure (Pa).
+    pub pressure: f64,
+    /// `"uniform NxM"` or `"adaptive 1e-2"`.
+    pub mesh: String,
+    /// Unknowns of the mesh of the jump.
+    pub dofs: usize,
+    /// Wall time of the solve from first touch (s).
+    pub wall_s: f64,
+    /// The jump (K).
+    pub jump: f64,
+    /// Its estimated error (K), adaptive only.
+    pub estimate: Option<f64>,
+    /// The reference jump (K).
+    pub reference: f64,
+}
+
+/// The adaptive Sect. 5.7 case: `tables/sinusoid_on_flat.toml` on `elements`
+/// (upper along x; lower and heights in proportion) at one pressure, with an
+/// optional target error.
+fn sect57_case(elements: usize, pressure: f64, target: Option<f64>) -> Result<crate::sample::Case> {
+    let mut case = crate::sample::Case::from_toml(
+        include_str!("../../tables/sinusoid_on_flat.toml"),
+        std::path::Path::new("."),
+    )?;
+    let d = &mut case.discretization;
+    d.elements_upper = [elements, elements / 2];
+    d.elements_lower = [elements * 27 / 32, (elements * 14).div_ceil(32)];
+    d.target_error = target;
+    d.max_levels = crate::sample::case::MAX_LEVELS;
+    case.load.pressures = vec![pressure];
+    Ok(case)
+}
+
+/// Solves one pressure of a case from first touch: the result and the wall time.
+fn timed_solve(case: &crate::sample::Case) -> Result<(crate::homogenize::PointResult, f64)> {
+    let t = Instant::now();
+    let mut solver = crate::homogenize::path::PathSolver::new(case)?;
+    let r = solver.solve_pressure(case.load.pressures[0])?;
+    Ok((r, t.elapsed().as_secs_f64()))
+}
+
+/// The accuracy-per-cost benchmark (`tcgen bench --only accuracy`): the
+/// Sect. 5.7 sample at 300 Pa, 1 kPa, 10 kPa and 100 kPa on uniform meshes
+/// of 16 to `finest` elements along x, and adaptive from 16 × 8 at targets
+/// 5 %, 2 %, 1 % and 0.5 %; the reference is the adaptive solve at 5e-4
+/// (its own estimate printed).
+pub fn adaptivity_bench(finest: usize) -> Result<Vec<AccuracyRow>> {
+    let mut rows = Vec::new();
+    for p in [3.0e2, 1.0e3, 1.0e4, 1.0e5] {
+        let (reference, _) = timed_solve(&sect57_case(16, p, Some(5.0e-4))?)?;
+        let mut push = |mesh: String, r: crate::homogenize::PointResult, wall_s: f64| {
+            rows.push(AccuracyRow {
+                pressure: p,
+                mesh,
+                dofs: r.dofs,
+                wall_s,
+                jump: r.jump,
+                estimate: r.jump_error,
+                reference: reference.jump,
+            })
+        };
+        push("reference 5e-4".into(), reference.clone(), f64::NAN);
+        let mut n = 16;
+        while n <= finest {
+            let (r, t) = timed_solve(&sect57_case(n, p, None)?)?;
+            push(format!("uniform {n} x {}", n / 2), r, t);
+            n *= 2;
+        }
+        for target in [5.0e-2, 2.0e-2, 1.0e-2, 5.0e-3] {
+            let (r, t) = timed_solve(&sect57_case(16, p, Some(target))?)?;
+            push(format!("adaptive {target:e}"), r, t);
+        }
+    }
+    Ok(rows)
+}
+
+/// The accuracy-per-cost benchmark as text.
+pub fn format_accuracy_bench(rows: &[AccuracyRow]) -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "accuracy per cost: Sect. 5.7 sinusoid on a flat (tables/sinusoid_on_flat.toml, p = 2, \
+         two-phase self-consistent), one pressure from first touch; reference: adaptive from \
+         16 x 8 at target 5e-4"
+    );
+    let _ = writeln!(
+        s,
+        "  {:>9} {:<18} {:>8} {:>9} {:>11} {:>9} {:>9} {:>6}",
+        "p/Pa", "mesh", "dofs", "wall/s", "jump/K", "error", "estimate", "eff."
+    );
+    for r in rows {
+        let err = (r.jump - r.reference).abs() / r.reference;
+        let est = r.estimate.map(|e| e / r.jump);
+        let _ = writeln!(
+            s,
+            "  {:>9.3e} {:<18} {:>8} {:>9.2} {:>11.5} {:>8.2}% {:>9} {:>6}",
+            r.pressure,
+            r.mesh,
+            r.dofs,
+            r.wall_s,
+            r.jump,
+            100.0 * err,
+            est.map_or("-".into(), |e| format!("{:.2}%", 100.0 * e)),
+            match est {
+                Some(e) if !r.mesh.starts_with("reference") && err > 0.0 =>
+                    format!("{:.2}", e / err),
+                _ => "-".into(),
+            }
+        );
     }
     s
 }

@@ -127,9 +127,12 @@ enum Command {
         /// Pressures of the micro-sample path benchmark (the Sect. 5.7 sinusoid).
         #[arg(long, default_value_t = 20)]
         pressures: usize,
-        /// Run only one part: the linear solvers or the micro-sample path.
+        /// Run only one part: the linear solvers, the micro-sample path or accuracy per cost.
         #[arg(long, value_enum)]
         only: Option<BenchPart>,
+        /// Finest uniform mesh (elements along x) of the accuracy benchmark.
+        #[arg(long, default_value_t = 64)]
+        finest: usize,
     },
 }
 
@@ -137,8 +140,10 @@ enum Command {
 enum BenchPart {
     /// Sparse assembly and direct solvers on synthetic grids.
     Solvers,
-    /// The Sect. 5.7 micro-sample along a pressure path.
+    /// The Sect. 5.7 micro-sample along a pressure path (fixed mesh and adaptive to 1 %).
     Micro,
+    /// Accuracy per cost: uniform against adaptive meshes on the Sect. 5.7 sample.
+    Accuracy,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -652,14 +657,19 @@ fn main() -> ExitCode {
             sizes,
             pressures,
             only,
+            finest,
         } => {
             let run = || -> tcgen::Result<()> {
-                if only != Some(BenchPart::Micro) {
+                if only.is_none() || only == Some(BenchPart::Solvers) {
                     tcgen::bench::main_bench(&sizes)?;
                 }
-                if only != Some(BenchPart::Solvers) {
+                if only.is_none() || only == Some(BenchPart::Micro) {
                     let b = tcgen::bench::micro_sample_bench(pressures)?;
                     print!("{}", tcgen::bench::format_micro_bench(&b));
+                }
+                if only.is_none() || only == Some(BenchPart::Accuracy) {
+                    let rows = tcgen::bench::adaptivity_bench(finest)?;
+                    print!("{}", tcgen::bench::format_accuracy_bench(&rows));
                 }
                 Ok(())
             };

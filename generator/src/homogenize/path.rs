@@ -361,12 +361,16 @@ impl<'a> PathSolver<'a> {
         pressure: f64,
         fluxes: &[f64],
     ) -> Result<Vec<PointResult>> {
-        let coarse = self.solve_fluxes_on_mesh(pressure, fluxes)?;
-        match self.case.discretization.target_error {
-            Some(target) if coarse.iter().all(|r| r.converged) => {
-                self.adapt(pressure, fluxes, coarse, target)
-            }
-            _ => Ok(coarse),
+        let Some(target) = self.case.discretization.target_error else {
+            return self.solve_fluxes_on_mesh(pressure, fluxes, false);
+        };
+        // The levels compare plain two-phase jumps; the self-consistent
+        // iterations run once, on the final mesh.
+        let coarse = self.solve_fluxes_on_mesh(pressure, fluxes, true)?;
+        if coarse.iter().all(|r| r.converged) {
+            self.adapt(pressure, fluxes, coarse, target)
+        } else {
+            Ok(coarse)
         }
     }
 
@@ -376,7 +380,10 @@ impl<'a> PathSolver<'a> {
     /// flux's [`two_level_estimate`] is below `target` times its jump (after
     /// at least [`MIN_ADAPTIVE_LEVELS`] levels), or at `max_levels`,
     /// `max_dofs` or a level that fails (then flagged, with the last
-    /// estimate).
+    /// estimate). The levels run the plain two-phase identification (one
+    /// mechanical and one thermal phase); with the self-consistent method
+    /// its iterations then run on the final mesh, and the estimate is
+    /// scaled by the ratio of the final to the plain jump.
     fn adapt(
         &mut self,
         pressure: f64,
@@ -415,10 +422,17 @@ impl<'a> PathSolver<'a> {
                 }
                 break;
             }
+            let t_build = std::time::Instant::now();
             let mut next = PathSolver::with_bodies(case, self.geometry.clone(), bodies)?;
             transfer_state(src, &mut next.model);
             next.last_pressure = pressure;
-            let solved = match next.solve_fluxes_on_mesh(pressure, fluxes) {
+            if trace {
+                eprintln!(
+                    "adapt: level {level} built in {:.3} s",
+                    t_build.elapsed().as_secs_f64()
+                );
+            }
+            let solved = match next.solve_fluxes_on_mesh(pressure, fluxes, true) {
                 Ok(r) if r.iter().all(|r| r.converged) => r,
                 other => {
                     if trace {
@@ -472,6 +486,23 @@ impl<'a> PathSolver<'a> {
                 break;
             }
         }
+        if trace {
+            eprintln!("adapt {pressure:e} Pa: levels done");
+        }
+        if case.homogenization.method == Method::TwoPhaseSelfConsistent {
+            let last = fine.as_mut().unwrap_or(self);
+            let plain = best;
+            best = last.solve_fluxes_on_mesh(pressure, fluxes, false)?;
+            iterations += best.iter().map(|r| r.newton_iterations).max().unwrap_or(0);
+            for (i, (r, p)) in best.iter().zip(&plain).enumerate() {
+                if let Some(e) = estimate.as_mut()
+                    && p.jump != 0.0
+                    && r.converged
+                {
+                    e[i] *= (r.jump / p.jump).abs();
+                }
+            }
+        }
         for (i, r) in best.iter_mut().enumerate() {
             r.jump_error = estimate.as_ref().map(|e| e[i]);
             r.error_target_met = Some(met);
@@ -486,9 +517,15 @@ impl<'a> PathSolver<'a> {
     /// is linear in `h̄`, so its solution for a unit flux scales exactly. Each
     /// flux then runs its own self-consistency iterations from that state.
     /// A flux whose iterations fail is reported as failed; the others go on.
-    fn solve_fluxes_on_mesh(&mut self, pressure: f64, fluxes: &[f64]) -> Result<Vec<PointResult>> {
+    fn solve_fluxes_on_mesh(
+        &mut self,
+        pressure: f64,
+        fluxes: &[f64],
+        plain: bool,
+    ) -> Result<Vec<PointResult>> {
         let case = self.case;
-        let self_consistent = case.homogenization.method == Method::TwoPhaseSelfConsistent;
+        let self_consistent =
+            !plain && case.homogenization.method == Method::TwoPhaseSelfConsistent;
         if matches!(
             case.homogenization.method,
             Method::Coupled | Method::Linearized
@@ -672,6 +709,16 @@ pub fn solve_case(
     if let Some(dir) = vtk {
         solver.set_vtk(dir);
     }
+    if let Some(target) = case.discretization.target_error
+        && matches!(
+            case.homogenization.method,
+            Method::TwoPhase | Method::TwoPhaseSelfConsistent
+        )
+    {
+        let out = solve_path_adaptive(&mut solver, target)?;
+        out.iter().for_each(&mut progress);
+        return Ok(out);
+    }
     let mut out = Vec::new();
     let mut failed = None;
     for &p in &case.load.pressures {
@@ -689,4 +736,57 @@ pub fn solve_case(
         out.push(r);
     }
     Ok(out)
+}
+
+/// The adaptive path of [`solve_case`]: the case mesh along the whole path
+/// first (continuation, plain two-phase), then every pressure refined from
+/// its saved coarse state independently, in parallel (rayon). The results
+/// equal those of [`PathSolver::solve_pressure`] at each pressure.
+fn solve_path_adaptive(solver: &mut PathSolver<'_>, target: f64) -> Result<Vec<PointResult>> {
+    use rayon::prelude::*;
+    let case = solver.case;
+    let fluxes = [case.load.flux];
+    // (pressure, Ok((coarse results, saved state)) or the failure reason)
+    let mut coarse = Vec::new();
+    let mut failed: Option<String> = None;
+    for &p in &case.load.pressures {
+        let item = match &failed {
+            Some(reason) => Err(format!("not reached: {reason}")),
+            None => match solver.solve_fluxes_on_mesh(p, &fluxes, true) {
+                Ok(r) if r.iter().all(|r| r.converged) => Ok((r, solver.model.save())),
+                Ok(mut r) => {
+                    failed = Some(format!("failed at {p:e} Pa"));
+                    Err(match r.pop().map(|r| r.status) {
+                        Some(Status::Failed(m)) => m,
+                        _ => "failed".into(),
+                    })
+                }
+                Err(e) => {
+                    failed = Some(format!("failed at {p:e} Pa"));
+                    Err(e.to_string())
+                }
+            },
+        };
+        coarse.push((p, item));
+    }
+    let (geometry, bodies) = (&solver.geometry, &solver.bodies);
+    Ok(coarse
+        .into_par_iter()
+        .map(|(p, item)| {
+            let refine = |(r, saved): (Vec<PointResult>, Vec<f64>)| -> Result<PointResult> {
+                let mut base = PathSolver::with_bodies(case, geometry.clone(), bodies.clone())?;
+                base.model.restore(&saved);
+                base.last_pressure = p;
+                let mut out = base.adapt(p, &fluxes, r, target)?;
+                Ok(out.pop().expect("one flux"))
+            };
+            match item
+                .map_err(|m| m.to_string())
+                .and_then(|c| refine(c).map_err(|e| e.to_string()))
+            {
+                Ok(r) => r,
+                Err(m) => PointResult::failed(case, p, m),
+            }
+        })
+        .collect())
 }
