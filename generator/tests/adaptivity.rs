@@ -43,8 +43,8 @@ fn solve(c: &Case) -> Vec<PointResult> {
 /// target is met, the estimate is within the target, and against a deep
 /// adaptive reference (target 5e-4) the true error is below 1 % and the
 /// effectivity index (estimate / true error) within [0.5, 3]. Observed:
-/// 19.054 K ± 0.157 (5 levels, 2076 unknowns) against 18.930 K (9 levels):
-/// true error 0.65 %, effectivity 1.27.
+/// 19.005 K ± 0.083 (6 levels, 2388 unknowns) against 18.929 K (10 levels,
+/// 3708 unknowns): true error 0.40 %, effectivity 1.10.
 #[test]
 fn sect57_at_one_kpa_meets_one_percent_with_a_faithful_estimate() {
     let r = solve(&case("[1.0e3]", "target_error = 0.01"));
@@ -133,5 +133,5 @@ fn the_state_carries_over_to_refined_bodies() {
 fn the_two_level_estimate_guards_a_lucky_difference() {
     assert_eq!(two_level_estimate(0.1, None), 0.1);
     assert_eq!(two_level_estimate(0.1, Some(0.2)), 0.1);
-    assert_eq!(two_level_estimate(0.01, Some(0.2)), 0.05);
+    assert_eq!(two_level_estimate(0.01, Some(0.2)), 0.1);
 }

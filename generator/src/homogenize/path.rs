@@ -688,13 +688,14 @@ impl<'a> PathSolver<'a> {
 pub const MIN_ADAPTIVE_LEVELS: usize = 2;
 
 /// The two-level error estimate of a jump (K) after a refinement level:
-/// `max(d_k, d_{k−1}/4)` with `d_k = |J_k − J_{k−1}|` the change of the jump
+/// `max(d_k, d_{k−1}/2)` with `d_k = |J_k − J_{k−1}|` the change of the jump
 /// over the last level and `d_{k−1}` the one before. For first-order
 /// convergence in the edge element size (the contact edge, halved per level)
-/// the error of `J_k` equals `d_k` asymptotically; the second term keeps a
-/// non-monotone sequence (a difference small by chance) from stopping early.
+/// the error of `J_k` equals `d_k = d_{k−1}/2` asymptotically; the second
+/// term keeps a non-monotone sequence (a difference small by chance) from
+/// stopping early.
 pub fn two_level_estimate(d_k: f64, d_previous: Option<f64>) -> f64 {
-    d_k.max(0.25 * d_previous.unwrap_or(0.0))
+    d_k.max(0.5 * d_previous.unwrap_or(0.0))
 }
 
 /// Solves every pressure of a case in order (one path); a failed point is
