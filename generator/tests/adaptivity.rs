@@ -43,8 +43,8 @@ fn solve(c: &Case) -> Vec<PointResult> {
 /// target is met, the estimate is within the target, and against a deep
 /// adaptive reference (target 5e-4) the true error is below 1 % and the
 /// effectivity index (estimate / true error) within [0.5, 3]. Observed:
-/// 19.005 K ± 0.083 (6 levels, 2388 unknowns) against 18.929 K (10 levels,
-/// 3708 unknowns): true error 0.40 %, effectivity 1.10.
+/// 19.005 K ± 0.129 (6 levels, 2388 unknowns) against 18.929 K (10 levels,
+/// 3708 unknowns): true error 0.40 %, effectivity 1.70.
 #[test]
 fn sect57_at_one_kpa_meets_one_percent_with_a_faithful_estimate() {
     let r = solve(&case("[1.0e3]", "target_error = 0.01"));
@@ -131,7 +131,99 @@ fn the_state_carries_over_to_refined_bodies() {
 
 #[test]
 fn the_two_level_estimate_guards_a_lucky_difference() {
-    assert_eq!(two_level_estimate(0.1, None), 0.1);
-    assert_eq!(two_level_estimate(0.1, Some(0.2)), 0.1);
-    assert_eq!(two_level_estimate(0.01, Some(0.2)), 0.1);
+    assert_eq!(two_level_estimate(0.1, &[]), 0.1);
+    assert_eq!(two_level_estimate(0.1, &[0.2]), 0.1);
+    assert_eq!(two_level_estimate(0.01, &[0.2]), 0.1);
+    assert_eq!(two_level_estimate(0.01, &[0.8, 0.02, 0.01]), 0.01);
+    assert_eq!(two_level_estimate(0.001, &[0.8, 0.4, 0.002]), 0.1);
+}
+
+/// Westergaard's wavy contact in the small-strain limit (`A/λ = 5e-4`,
+/// `H = λ`, PR, constant conductivity, plain two-phase) adaptive from
+/// 16 × 8 at 5–90 % of `p*`: the contact fraction against `2a/λ` and the
+/// jump against the closed-form strips of Westergaard's width between
+/// layers of the compressed heights (`WavySample::strip_conductance`).
+/// Observed at target 0.01: contact within 0.96 %, jump within 1.18 %; at
+/// 0.003: 0.38 % and 0.63 % (the model's own distance from the closed
+/// forms' assumptions — finite strain, a non-flat surface — is 0.2–0.5 % in
+/// the jump, seen at target 5e-4).
+#[test]
+fn westergaard_adaptive_meets_the_closed_forms() {
+    use tcgen::analytical::westergaard::contact_half_width;
+    use tcgen::verify::contact::wavy::{WESTERGAARD_LEVELS, WavySample};
+    let s = WavySample {
+        amplitude: 5.0e-9,
+        ..WavySample::default()
+    };
+    let p_star = s.p_star();
+    let pressures: Vec<String> = WESTERGAARD_LEVELS
+        .iter()
+        .map(|f| format!("{:e}", f * p_star))
+        .collect();
+    for (target, tol_contact, tol_jump) in [(0.01, 0.01, 0.015), (0.003, 0.005, 0.01)] {
+        let text = format!(
+            r#"
+[sample]
+width = {w:e}
+height = {h:e}
+lateral = "periodic"
+[surface.upper]
+kind = "sinusoid"
+rms = {rms:e}
+wavelength = {w:e}
+[surface.lower]
+kind = "flat"
+[material]
+conductivity_slope = 0.0
+[discretization]
+degree = 2
+elements_upper = [16, 8]
+elements_lower = [14, 7]
+target_error = {target:e}
+[homogenization]
+method = "two-phase"
+[load]
+flux = {flux:e}
+pressures = [{p}]
+"#,
+            w = s.wavelength,
+            h = s.height,
+            rms = s.amplitude / 2f64.sqrt(),
+            flux = s.flux,
+            p = pressures.join(", "),
+        );
+        let c = Case::from_toml(&text, Path::new(".")).unwrap();
+        let (mut worst_cf, mut worst_jump) = (0.0f64, 0.0f64);
+        for r in solve(&c) {
+            assert!(
+                r.converged && r.error_target_met == Some(true),
+                "{:?}",
+                r.status
+            );
+            let a = contact_half_width(s.e_star(), s.amplitude, s.wavelength, r.pressure);
+            let cf = 2.0 * a / s.wavelength;
+            let jump = s.flux / s.strip_conductance(r.pressure, a).unwrap();
+            let (ecf, ej) = (
+                (r.interface.contact_fraction - cf) / cf,
+                (r.jump - jump) / jump,
+            );
+            println!(
+                "target {target}: p/p* = {:.2}: contact {:.5} vs {cf:.5} ({:+.2} %), jump {:.5} ± {:.4} vs {jump:.5} K ({:+.2} %), {} unknowns",
+                r.pressure / p_star,
+                r.interface.contact_fraction,
+                100.0 * ecf,
+                r.jump,
+                r.jump_error.unwrap_or(f64::NAN),
+                100.0 * ej,
+                r.dofs
+            );
+            worst_cf = worst_cf.max(ecf.abs());
+            worst_jump = worst_jump.max(ej.abs());
+        }
+        assert!(
+            worst_cf <= tol_contact,
+            "target {target}: contact fraction {worst_cf}"
+        );
+        assert!(worst_jump <= tol_jump, "target {target}: jump {worst_jump}");
+    }
 }

@@ -461,7 +461,10 @@ impl<'a> PathSolver<'a> {
                 .map(|(f, c)| (f.jump - c.jump).abs())
                 .collect();
             let est: Vec<f64> = (0..diff.len())
-                .map(|i| two_level_estimate(diff[i], diffs.last().map(|p| p[i])))
+                .map(|i| {
+                    let previous: Vec<f64> = diffs.iter().map(|d| d[i]).collect();
+                    two_level_estimate(diff[i], &previous)
+                })
                 .collect();
             diffs.push(diff);
             best = solved;
@@ -688,14 +691,20 @@ impl<'a> PathSolver<'a> {
 pub const MIN_ADAPTIVE_LEVELS: usize = 2;
 
 /// The two-level error estimate of a jump (K) after a refinement level:
-/// `max(d_k, d_{k−1}/2)` with `d_k = |J_k − J_{k−1}|` the change of the jump
-/// over the last level and `d_{k−1}` the one before. For first-order
-/// convergence in the edge element size (the contact edge, halved per level)
-/// the error of `J_k` equals `d_k = d_{k−1}/2` asymptotically; the second
-/// term keeps a non-monotone sequence (a difference small by chance) from
-/// stopping early.
-pub fn two_level_estimate(d_k: f64, d_previous: Option<f64>) -> f64 {
-    d_k.max(0.5 * d_previous.unwrap_or(0.0))
+/// `max(d_k, d_{k−1}/2, d_{k−2}/4)` with `d_k = |J_k − J_{k−1}|` the change
+/// of the jump over the last level and `d_{k−1}`, `d_{k−2}` (`previous`,
+/// most recent last) the ones before. For first-order convergence in the
+/// edge element size (the contact edge, halved per level) the error of `J_k`
+/// equals `d_k = d_{k−1}/2 = d_{k−2}/4` asymptotically; the older terms keep
+/// a non-monotone sequence (the contact edge crossing element boundaries
+/// makes single differences small by chance) from stopping early.
+pub fn two_level_estimate(d_k: f64, previous: &[f64]) -> f64 {
+    previous
+        .iter()
+        .rev()
+        .take(2)
+        .zip([0.5, 0.25])
+        .fold(d_k, |m, (d, w)| m.max(w * d))
 }
 
 /// Solves every pressure of a case in order (one path); a failed point is
