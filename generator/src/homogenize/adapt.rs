@@ -11,7 +11,9 @@
 //! the slave face elements whose control points are partly in and partly out
 //! of contact (the pressure indicator `λN − εN g` changes sign among them),
 //! with their neighbours, and the master elements their points project onto,
-//! with theirs. Where no edge exists (no or full contact) the whole
+//! with theirs; and the elements out of contact where the surfaces already
+//! interpenetrate at an integration point (a spot narrower than the nodal
+//! supports, not yet in the active set). Where no edge exists (no or full contact) the whole
 //! interface layer is marked. Each volume element at a marked face element
 //! is halved in every direction; class-2 admissibility grades the mesh
 //! through the height.
@@ -75,13 +77,23 @@ pub fn mark_contact_edges(model: &Model, slave: usize) -> Result<Marks> {
     let master = if slave == UPPER { LOWER } else { UPPER };
     let (sface, mface) = (c.slave_face(), c.master_face());
     let indicator: Vec<f64> = (0..c.n_slave()).map(|i| c.indicator(i)).collect();
+    // Elements out of contact in which the surfaces already interpenetrate
+    // at an integration point: a spot narrower than the nodal supports,
+    // which the lumped active set does not see yet.
+    let penetrating: BTreeSet<usize> = c
+        .points
+        .iter()
+        .zip(&c.state)
+        .filter(|(_, st)| st.gap.value < 0.0)
+        .map(|(p, _)| p.element)
+        .collect();
     let edges: BTreeSet<usize> = sface
         .elements()
         .iter()
         .enumerate()
-        .filter(|(_, el)| {
+        .filter(|(e, el)| {
             let inside = el.functions.iter().filter(|&&i| indicator[i] > 0.0).count();
-            inside > 0 && inside < el.functions.len()
+            (inside > 0 && inside < el.functions.len()) || (inside == 0 && penetrating.contains(e))
         })
         .map(|(e, _)| e)
         .collect();
