@@ -191,6 +191,14 @@ fn sweep(a: SweepArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    // Before any computing: the table is written to a file.
+    if a.output.is_dir() {
+        eprintln!(
+            "error: invalid input `--output` = {}: a directory; expected the path of the table file to write",
+            a.output.display()
+        );
+        return ExitCode::from(2);
+    }
     let start = std::time::Instant::now();
     let options = SweepOptions {
         threads: a.threads,
@@ -519,6 +527,16 @@ fn solve(path: &std::path::Path, json: bool, vtk: Option<std::path::PathBuf>) ->
             return ExitCode::from(2);
         }
     };
+    if let Some(dir) = &vtk
+        && dir.exists()
+        && !dir.is_dir()
+    {
+        eprintln!(
+            "error: invalid input `--vtk` = {}: an existing file; expected a directory (created if missing)",
+            dir.display()
+        );
+        return ExitCode::from(2);
+    }
     // The lateral offset of the upper body only when its top face slides.
     let sliding = case.sample.top_lateral == tcgen::sample::case::TopLateral::Free;
     // The error estimate, unknowns and levels of the adaptive meshes.

@@ -82,3 +82,31 @@ fn surface_writes_the_sample_of_a_sweep() {
         );
     }
 }
+
+/// Issue 14 item 4: output paths of the wrong kind are refused up front
+/// (exit 2, the option named), before any computing.
+#[test]
+fn output_paths_of_the_wrong_kind_are_refused_before_computing() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let dir = scratch("sweep-cli-paths");
+    let file = dir.join("a-file");
+    std::fs::write(&file, "x").unwrap();
+    let sweep = Command::new(env!("CARGO_BIN_EXE_tcgen"))
+        .args(["sweep", "-o"])
+        .arg(&dir)
+        .arg(root.join("tables/reference.toml"))
+        .output()
+        .unwrap();
+    assert_eq!(sweep.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&sweep.stderr).contains("`--output`"));
+    let solve = Command::new(env!("CARGO_BIN_EXE_tcgen"))
+        .args(["solve", "--vtk"])
+        .arg(&file)
+        .arg(root.join("tables/sinusoid_on_flat.toml"))
+        .output()
+        .unwrap();
+    assert_eq!(solve.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&solve.stderr).contains("`--vtk`"));
+    // Nothing was solved: no table header, no point.
+    assert!(solve.stdout.is_empty() && sweep.stdout.is_empty());
+}

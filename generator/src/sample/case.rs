@@ -232,6 +232,72 @@ pub struct SolverSection {
     pub stepping: LoadStepping,
 }
 
+impl SolverSection {
+    /// Checks the Newton and load-stepping keys; the error names the key.
+    pub fn validate(&self) -> Result<()> {
+        let (n, st) = (&self.newton, &self.stepping);
+        let bad = |key: &str, v: &dyn std::fmt::Display, expected: &str| {
+            Err(Error::invalid(format!("solver.{key}"), v, expected))
+        };
+        if !(1..=10_000).contains(&n.max_iterations) {
+            return bad(
+                "newton.max_iterations",
+                &n.max_iterations,
+                "an integer in 1..=10000",
+            );
+        }
+        for (key, v) in [
+            ("newton.relative_tolerance", n.relative_tolerance),
+            ("newton.absolute_tolerance", n.absolute_tolerance),
+        ] {
+            if !(v.is_finite() && v > 0.0 && v < 1.0) {
+                return bad(key, &v, "a number in (0, 1)");
+            }
+        }
+        if !(n.divergence_factor.is_finite() && n.divergence_factor > 1.0) {
+            return bad(
+                "newton.divergence_factor",
+                &n.divergence_factor,
+                "a finite number > 1",
+            );
+        }
+        if !(st.max_step.is_finite() && st.max_step > 0.0 && st.max_step <= 1.0) {
+            return bad(
+                "stepping.max_step",
+                &st.max_step,
+                "a load fraction in (0, 1]",
+            );
+        }
+        if !(st.min_step.is_finite() && st.min_step > 0.0 && st.min_step <= st.max_step) {
+            return bad(
+                "stepping.min_step",
+                &st.min_step,
+                &format!(
+                    "a load fraction in (0, stepping.max_step = {}]",
+                    st.max_step
+                ),
+            );
+        }
+        if !(st.initial_step >= st.min_step && st.initial_step <= st.max_step) {
+            return bad(
+                "stepping.initial_step",
+                &st.initial_step,
+                &format!(
+                    "a load fraction in [min_step = {}, max_step = {}]",
+                    st.min_step, st.max_step
+                ),
+            );
+        }
+        if !(st.growth.is_finite() && st.growth >= 1.0) {
+            return bad("stepping.growth", &st.growth, "a finite factor >= 1");
+        }
+        if !(st.cutback.is_finite() && st.cutback > 0.0 && st.cutback < 1.0) {
+            return bad("stepping.cutback", &st.cutback, "a factor in (0, 1)");
+        }
+        Ok(())
+    }
+}
+
 /// A whole case file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -321,6 +387,28 @@ impl Case {
             resolve(upper, "material.upper")?,
             resolve(lower, "material.lower")?,
         ))
+    }
+
+    /// Checks that both bodies conduct (`k(θ) = k0 + k1 (θ − θ0) > 0`) at
+    /// the contact temperatures `thetas` (K) of a case or sweep.
+    pub fn check_conductivity_at(&self, thetas: &[f64]) -> Result<()> {
+        let (upper, lower) = self.materials()?;
+        for (key, m) in [("material.upper", upper), ("material.lower", lower)] {
+            for &t in thetas {
+                let k =
+                    m.thermal_conductivity + m.conductivity_slope * (t - m.reference_temperature);
+                if k.is_nan() || k <= 0.0 {
+                    return Err(Error::invalid(
+                        format!("{key}.conductivity_slope"),
+                        m.conductivity_slope,
+                        format!(
+                            "a slope that keeps k = k0 + k1 (θ − θ0) > 0 at the contact temperature {t} K (gives {k:e} W/(m K))"
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
     }
 
     /// Builds the upper and lower surfaces (an error names the key).
@@ -448,18 +536,15 @@ impl Case {
         for p in &self.load.pressures {
             positive("load.pressures", *p, "Pa")?;
         }
-        if !(self.load.flux.is_finite() && self.load.flux >= 0.0) {
-            return Err(Error::invalid(
-                "load.flux",
-                self.load.flux,
-                "a finite number >= 0 (W/m²)",
-            ));
-        }
+        // The identifications divide by the flux: a zero flux has no jump.
+        positive("load.flux", self.load.flux, "W/m²")?;
         positive(
             "load.contact_temperature",
             self.load.contact_temperature,
             "K",
         )?;
+        self.check_conductivity_at(&[self.load.contact_temperature])?;
+        self.solver.validate()?;
         let h = &self.homogenization;
         if !(h.tolerance.is_finite() && h.tolerance > 0.0 && h.tolerance < 1.0) {
             return Err(Error::invalid(
@@ -491,6 +576,34 @@ wavelength = 1.0e-5
 [surface.lower]
 kind = "flat"
 "#;
+
+    /// Issue 14 item 4: keys that used to pass validation and fail later.
+    #[test]
+    fn late_failures_are_validation_errors_naming_the_key() {
+        for (extra, key) in [
+            ("[load]\nflux = 0.0\n", "load.flux"),
+            (
+                "[solver.newton]\nmax_iterations = 0\n",
+                "solver.newton.max_iterations",
+            ),
+            (
+                "[solver.stepping]\nmin_step = 0.5\nmax_step = 0.1\ninitial_step = 0.1\n",
+                "solver.stepping.min_step",
+            ),
+            (
+                "[material]\nconductivity_slope = -0.1\n[load]\ncontact_temperature = 310.0\n",
+                "material.upper.conductivity_slope",
+            ),
+        ] {
+            let e = Case::from_toml(&format!("{MINIMAL}\n{extra}"), Path::new("."))
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(key), "{key}: {e}");
+        }
+        // The same slope is fine where k stays positive.
+        let ok = "[material]\nconductivity_slope = -0.1\n[load]\ncontact_temperature = 295.0\n";
+        assert!(Case::from_toml(&format!("{MINIMAL}\n{ok}"), Path::new(".")).is_ok());
+    }
 
     #[test]
     fn defaults_are_table_i() {

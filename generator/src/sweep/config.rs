@@ -50,7 +50,7 @@ pub struct RangeSpec {
 }
 
 /// One axis of the grid as written.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(untagged)]
 pub enum AxisSpec {
     /// A single value.
@@ -59,6 +59,40 @@ pub enum AxisSpec {
     List(Vec<f64>),
     /// A range.
     Range(RangeSpec),
+}
+
+impl<'de> Deserialize<'de> for AxisSpec {
+    /// A number, a list of numbers, or a range table, with an error that
+    /// says which form was meant and what is wrong in it.
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        use serde::de::Error as _;
+        let v = toml::Value::deserialize(d)?;
+        let number = |v: &toml::Value| match v {
+            toml::Value::Float(x) => Some(*x),
+            toml::Value::Integer(i) => Some(*i as f64),
+            _ => None,
+        };
+        match &v {
+            toml::Value::Array(a) => a
+                .iter()
+                .map(|x| {
+                    number(x).ok_or_else(|| D::Error::custom(format!("list entry {x} is not a number")))
+                })
+                .collect::<std::result::Result<Vec<_>, _>>()
+                .map(AxisSpec::List),
+            toml::Value::Table(_) => v.clone().try_into::<RangeSpec>().map(AxisSpec::Range).map_err(|e| {
+                D::Error::custom(format!(
+                    "a range {{ from, to, count, spacing = \"log\" or \"linear\" }}: {}",
+                    e.message()
+                ))
+            }),
+            other => number(other).map(AxisSpec::Value).ok_or_else(|| {
+                D::Error::custom(format!(
+                    "{other} is not a number, a list of numbers or a range {{ from, to, count, spacing }}"
+                ))
+            }),
+        }
+    }
 }
 
 impl AxisSpec {
@@ -282,6 +316,7 @@ impl SweepConfig {
             ));
         }
         case.validate()?;
+        case.check_conductivity_at(&contact_temperatures)?;
         let resolved = resolve(&case, &sweep, &pressures, &fluxes, &contact_temperatures)?;
         let sha256 = sha256_hex(resolved.as_bytes());
         Ok(SweepConfig {
@@ -417,6 +452,23 @@ seed = 5
                 "contact_temperatures = 293.15",
                 "contact_temperatures = -1.0",
                 "sweep.contact_temperatures[0]",
+            ),
+            // Issue 14 item 4: a bad spacing says which form and what is wrong.
+            (
+                "spacing = \"log\"",
+                "spacing = \"logarithmic\"",
+                "`pressures`",
+            ),
+            (
+                "spacing = \"log\"",
+                "spacing = \"logarithmic\"",
+                "expected `log` or `linear`",
+            ),
+            // A conductivity that vanishes at one of the sweep's temperatures.
+            (
+                "contact_temperatures = 293.15\nsamples = 2\nseed = 5",
+                "contact_temperatures = [293.15, 400.0]\nsamples = 2\nseed = 5\n[material]\nconductivity_slope = -0.01",
+                "material.upper.conductivity_slope",
             ),
         ] {
             let t = BASE.replace(from, to);
