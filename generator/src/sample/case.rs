@@ -434,6 +434,15 @@ impl Case {
         self.surface
             .lower
             .validate("surface.lower", self.sample.width)?;
+        // Profile files are read now (not after a table header is written).
+        for (key, spec) in [
+            ("surface.upper", &self.surface.upper),
+            ("surface.lower", &self.surface.lower),
+        ] {
+            if let SurfaceSpec::Profile { .. } = spec {
+                spec.build(key, self.sample.width, &self.base_dir)?;
+            }
+        }
         // A sinusoid's crest must stay inside its body (random surfaces are
         // checked when generated).
         for (key, spec) in [
@@ -599,6 +608,20 @@ kind = "flat"
                 .unwrap_err()
                 .to_string();
             assert!(e.contains(key), "{key}: {e}");
+        }
+        // A profile file that is missing or malformed.
+        let dir = std::env::temp_dir().join(format!("tcgen-case-profile-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("bad.csv"), "x,z\n0.0,abc\n").unwrap();
+        for file in ["missing.csv", "bad.csv"] {
+            let t = format!(
+                "[surface.upper]\nkind = \"profile\"\nfile = \"{file}\"\n[surface.lower]\nkind = \"flat\"\n"
+            );
+            let e = Case::from_toml(&t, &dir).unwrap_err().to_string();
+            assert!(
+                e.contains("surface.upper.file") || e.contains(file),
+                "{file}: {e}"
+            );
         }
         // The same slope is fine where k stays positive.
         let ok = "[material]\nconductivity_slope = -0.1\n[load]\ncontact_temperature = 295.0\n";
