@@ -56,6 +56,18 @@ impl Writer {
         self.attr(v, name, NcAttrValue::Chars(value.into()))
     }
 
+    /// `long_name` (a short label, for plot axes) and, after ` | `, the
+    /// `comment` (the definition, equation numbers).
+    fn labels(&mut self, v: VariableId, text: &str) -> Result<()> {
+        match text.split_once(" | ") {
+            Some((label, comment)) => {
+                self.text(v, "long_name", label)?;
+                self.text(v, "comment", comment)
+            }
+            None => self.text(v, "long_name", text),
+        }
+    }
+
     fn doubles(
         &mut self,
         name: &str,
@@ -75,7 +87,7 @@ impl Writer {
                 .map_err(nc_err(name))?;
         }
         self.text(v, "units", units)?;
-        self.text(v, "long_name", long_name)?;
+        self.labels(v, long_name)?;
         self.b.write_variable(v, data).map_err(nc_err(name))?;
         Ok(v)
     }
@@ -99,7 +111,7 @@ impl Writer {
                 .map_err(nc_err(name))?;
         }
         self.text(v, "units", units)?;
-        self.text(v, "long_name", long_name)?;
+        self.labels(v, long_name)?;
         self.b.write_variable(v, data).map_err(nc_err(name))?;
         Ok(v)
     }
@@ -134,7 +146,7 @@ pub fn table_to_bytes(t: &Table) -> Result<Vec<u8>> {
         "pressure",
         &[dp],
         "Pa",
-        "macroscopic contact pressure p_N (positive in compression)",
+        "contact pressure | macroscopic contact pressure p_N (positive in compression)",
         &t.pressure,
         false,
     )?;
@@ -142,7 +154,7 @@ pub fn table_to_bytes(t: &Table) -> Result<Vec<u8>> {
         "flux",
         &[dh],
         "W m-2",
-        "magnitude |h| of the macroscopic heat flux, from body 1 (upper) to body 2 (lower)",
+        "heat flux | magnitude |h| of the macroscopic heat flux, from body 1 (upper) to body 2 (lower)",
         &t.flux,
         false,
     )?;
@@ -159,7 +171,7 @@ pub fn table_to_bytes(t: &Table) -> Result<Vec<u8>> {
         "sample",
         &[ds],
         "1",
-        "surface sample index s of the ensemble (random stream of schemas/table.md)",
+        "sample | surface sample index s of the ensemble (random stream of schemas/table.md)",
         &samples,
         false,
     )?;
@@ -206,7 +218,7 @@ pub fn table_to_bytes(t: &Table) -> Result<Vec<u8>> {
         "jump",
         &d4,
         "K",
-        "macroscopic temperature jump theta - theta_c across the interface, Eq. (2.6)",
+        "temperature jump | macroscopic temperature jump theta - theta_c across the interface, Eq. (2.6)",
         &masked(&values, |v| v.jump),
         true,
     )?;
@@ -214,7 +226,7 @@ pub fn table_to_bytes(t: &Table) -> Result<Vec<u8>> {
         "conductance",
         &d4,
         "W m-2 K-1",
-        "macroscopic contact conductance |h| / jump, Eq. (2.7)",
+        "contact conductance | macroscopic contact conductance |h| / jump, Eq. (2.7)",
         &masked(&values, |v| v.conductance),
         true,
     )?;
@@ -222,7 +234,7 @@ pub fn table_to_bytes(t: &Table) -> Result<Vec<u8>> {
         "contact_fraction",
         &d4,
         "1",
-        "real contact area fraction (projected on the mean plane)",
+        "contact fraction | real contact area fraction (projected on the mean plane)",
         &masked(&values, |v| v.contact_fraction),
         true,
     )?;
@@ -247,7 +259,7 @@ pub fn table_to_bytes(t: &Table) -> Result<Vec<u8>> {
         "self_consistency_iterations",
         &d4,
         "1",
-        "self-consistency iterations of the two-phase identification (Sect. 3.3)",
+        "self-consistency iterations | of the two-phase identification (Sect. 3.3)",
         &iters(|v| v.self_consistency_iterations),
         true,
     )?;
@@ -263,7 +275,7 @@ pub fn table_to_bytes(t: &Table) -> Result<Vec<u8>> {
         "jump_error",
         &d4,
         "K",
-        "estimated discretization error of the jump (adaptive refinement; missing on a fixed mesh)",
+        "jump discretization error | estimated discretization error of the jump (two-level estimate of the adaptive refinement; missing on a fixed mesh)",
         &values
             .iter()
             .map(|v| v.and_then(|v| v.jump_error).unwrap_or(FILL_DOUBLE))
@@ -274,7 +286,7 @@ pub fn table_to_bytes(t: &Table) -> Result<Vec<u8>> {
         "error_target_met",
         &d4,
         "1",
-        "1 where the error estimate met discretization.target_error, 0 where not (missing on a fixed mesh)",
+        "error target met | 1 where the error estimate met discretization.target_error, 0 where not (missing on a fixed mesh)",
         &values
             .iter()
             .map(|v| {
@@ -315,7 +327,7 @@ pub fn table_to_bytes(t: &Table) -> Result<Vec<u8>> {
         "upper_fit_error",
         &[ds],
         "m",
-        "largest height error of the NURBS fit of the upper surface",
+        "upper fit error | largest height error of the NURBS fit of the upper surface",
         &masked(s, |v: SampleSurfaces| v.upper_fit_error),
         true,
     )?;
@@ -323,7 +335,7 @@ pub fn table_to_bytes(t: &Table) -> Result<Vec<u8>> {
         "lower_fit_error",
         &[ds],
         "m",
-        "largest height error of the NURBS fit of the lower surface",
+        "lower fit error | largest height error of the NURBS fit of the lower surface",
         &masked(s, |v: SampleSurfaces| v.lower_fit_error),
         true,
     )?;
@@ -336,7 +348,7 @@ pub fn table_to_bytes(t: &Table) -> Result<Vec<u8>> {
         "converged_samples",
         &d3,
         "1",
-        "number of converged samples behind the ensemble statistics",
+        "converged samples | number of converged samples behind the ensemble statistics",
         &conv,
         false,
     )?;
@@ -354,7 +366,7 @@ pub fn table_to_bytes(t: &Table) -> Result<Vec<u8>> {
             &format!("{name}_mean"),
             &d3,
             units,
-            &format!("ensemble mean of the {name} over the converged samples"),
+            &format!("mean {name} | ensemble mean of the {name} over the converged samples"),
             &field(|s| s.mean),
             true,
         )?;
@@ -362,7 +374,7 @@ pub fn table_to_bytes(t: &Table) -> Result<Vec<u8>> {
             &format!("{name}_std"),
             &d3,
             units,
-            &format!("ensemble standard deviation (n - 1) of the {name}"),
+            &format!("{name} std | ensemble standard deviation (n - 1) of the {name}"),
             &field(|s| s.std),
             true,
         )?;
@@ -370,7 +382,7 @@ pub fn table_to_bytes(t: &Table) -> Result<Vec<u8>> {
             &format!("{name}_sem"),
             &d3,
             units,
-            &format!("standard error of the ensemble mean of the {name}"),
+            &format!("{name} sem | standard error of the ensemble mean of the {name}"),
             &field(|s| s.sem),
             true,
         )?;
@@ -385,7 +397,7 @@ pub fn table_to_bytes(t: &Table) -> Result<Vec<u8>> {
             &format!("{name}_quantile"),
             &[dp, dh, dt, dq],
             units,
-            &format!("ensemble quantiles of the {name} (linear interpolation, numpy's default)"),
+            &format!("{name} quantiles | ensemble quantiles of the {name} (linear interpolation, numpy's default)"),
             &q,
             true,
         )?;
@@ -394,7 +406,7 @@ pub fn table_to_bytes(t: &Table) -> Result<Vec<u8>> {
         "jump_discretization_error",
         &d3,
         "K",
-        "estimated discretization error of jump_mean: the mean of the samples' jump_error (missing on fixed meshes)",
+        "discretization error of jump_mean | the mean of the samples' jump_error (missing on fixed meshes)",
         &st.jump_discretization_error
             .iter()
             .map(|e| e.unwrap_or(FILL_DOUBLE))
