@@ -81,6 +81,8 @@ def check_table(path, config_path):
     assert hashlib.sha256(config.encode()).hexdigest() == ds.attrs["config_sha256"]
     assert tomllib.loads(config)["sweep"]["samples"] == cfg.get("samples", 1)
     assert "jump" in ds.attrs["sign_convention"]
+    # Provenance NCO and CF tools expect (issue 14 item 6).
+    assert "sweep" in ds.attrs["history"] and "Temizer" in ds.attrs["references"]
     # Values: masks follow the status; conductance = |h|/jump; statistics.
     status = ds["status"].values
     ok = status == 0

@@ -36,7 +36,8 @@ pub fn surface_summary(config: &str) -> String {
             .and_then(|s| s.get(b))
             .map_or_else(|| "?".into(), |v| one_line(&v.to_string()))
     };
-    format!("upper: {{{}}}; lower: {{{}}}", body("upper"), body("lower"))
+    // A TOML table prints with its braces: `{ kind = "flat" }`.
+    format!("upper: {}; lower: {}", body("upper"), body("lower"))
 }
 
 /// The law of a complete table with every point converged; `source` names the
@@ -154,6 +155,19 @@ mod tests {
             }
         }
         t
+    }
+
+    /// Issue 14 item 6: one pair of braces per surface table.
+    #[test]
+    fn surface_summary_has_single_braces() {
+        let s = surface_summary(
+            "[surface.upper]\nkind = \"flat\"\n[surface.lower]\nkind = \"sinusoid\"\nrms = 1.0\n",
+        );
+        assert!(
+            s.starts_with("upper: { kind = \"flat\" }; lower: { "),
+            "{s}"
+        );
+        assert!(!s.contains("{{") && !s.contains("}}"), "{s}");
     }
 
     #[test]

@@ -447,6 +447,19 @@ pub fn table_to_bytes(t: &Table) -> Result<Vec<u8>> {
         NcAttrValue::Chars(SIGN_CONVENTION.into()),
     )?;
     w.global("created", NcAttrValue::Chars(i.created.clone()))?;
+    // The attributes NCO and CF tools expect.
+    w.global(
+        "history",
+        NcAttrValue::Chars(format!("{}: {} sweep {}", i.created, i.generator, i.source)),
+    )?;
+    w.global(
+        "references",
+        NcAttrValue::Chars(
+            "I. Temizer, Multiscale thermomechanical contact: computational homogenization with \
+             isogeometric analysis, Int. J. Numer. Meth. Engng (2014); schemas/table.md"
+                .into(),
+        ),
+    )?;
     w.global("wall_time", NcAttrValue::Doubles(vec![i.wall_time]))?;
     w.global("threads", NcAttrValue::Ints(i.threads.clone()))?;
     w.global(
