@@ -33,6 +33,14 @@ def summary(ds: xr.Dataset) -> str:
     names = ds["status"].attrs.get("flag_meanings", "converged failed not_computed").split()
     counts = ", ".join(f"{int((status == i).sum())} {n}" for i, n in enumerate(names))
     lines.append(f"  points: {status.size} ({counts})")
+    if "converged_samples" in ds:
+        n = ds["converged_samples"].values
+        short = int((n < ds.sizes["sample"]).sum())
+        if short:
+            lines.append(
+                f"  {short} grid points rest on fewer than {ds.sizes['sample']} converged samples"
+                f" (min {int(n.min())}); their statistics use the converged ones only"
+            )
     for name in ("jump", "conductance"):
         v = ds[name].values
         if np.isfinite(v).any():

@@ -96,6 +96,12 @@ def check_table(path, config_path):
     assert np.all((frac >= 0) & (frac <= 1))
     np.testing.assert_allclose(ds["jump_mean"].values, np.nanmean(jump, axis=3), rtol=1e-12)
     np.testing.assert_array_equal(ds["converged_samples"].values, ok.sum(axis=3))
+    # No spread from fewer than two converged samples (issue 14 item 7).
+    n = ds["converged_samples"].values
+    std = ds["jump_std"].values
+    assert np.all(np.isnan(std[n < 2]))
+    if (n >= 2).any():
+        np.testing.assert_allclose(std[n >= 2], np.nanstd(jump, axis=3, ddof=1)[n >= 2], rtol=1e-10)
     np.testing.assert_allclose(
         ds["jump_quantile"].sel(quantile=0.5).values, np.nanmedian(jump, axis=3), rtol=1e-12
     )

@@ -356,10 +356,17 @@ pub fn table_to_bytes(t: &Table) -> Result<Vec<u8>> {
         ("jump", "K", &st.jump),
         ("conductance", "W m-2 K-1", &st.conductance),
     ] {
+        // Missing (never NaN) where there is no value: no converged sample,
+        // or a spread from a single one.
         let field = |f: fn(&Summary) -> f64| -> Vec<f64> {
             stats
                 .iter()
-                .map(|s| s.as_ref().map_or(FILL_DOUBLE, f))
+                .map(|s| {
+                    s.as_ref()
+                        .map(f)
+                        .filter(|v| !v.is_nan())
+                        .unwrap_or(FILL_DOUBLE)
+                })
                 .collect()
         };
         w.doubles(

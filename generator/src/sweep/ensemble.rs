@@ -13,9 +13,10 @@ pub struct Summary {
     pub count: usize,
     /// Mean.
     pub mean: f64,
-    /// Sample standard deviation (`n − 1` normalisation; 0 for `n = 1`).
+    /// Sample standard deviation (`n − 1` normalisation; NaN for `n = 1`:
+    /// one sample has no spread to estimate).
     pub std: f64,
-    /// Standard error of the mean, `std/√n`.
+    /// Standard error of the mean, `std/√n` (NaN for `n = 1`).
     pub sem: f64,
     /// Quantiles at [`QUANTILES`], linear interpolation between order
     /// statistics at `(n − 1)·q` (Hyndman–Fan type 7, numpy's default).
@@ -32,7 +33,7 @@ pub fn summarize(values: &[f64]) -> Option<Summary> {
     let std = if n > 1 {
         (values.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / (n - 1) as f64).sqrt()
     } else {
-        0.0
+        f64::NAN
     };
     let mut sorted = values.to_vec();
     sorted.sort_by(f64::total_cmp);
@@ -115,7 +116,7 @@ mod tests {
             assert!((a - b).abs() < 1e-14, "{a} {b}");
         }
         let one = summarize(&[7.0]).unwrap();
-        assert_eq!((one.std, one.sem, one.quantiles), (0.0, 0.0, [7.0; 5]));
+        assert!(one.std.is_nan() && one.sem.is_nan() && one.quantiles == [7.0; 5]);
         assert!(summarize(&[]).is_none());
     }
 }
