@@ -372,6 +372,13 @@ fn resolve(
 ) -> Result<String> {
     let mut v = toml::Table::try_from(case).map_err(config_err)?;
     v.remove("load");
+    // Every material key explicit, per body (defaults included).
+    let (upper, lower) = case.materials()?;
+    let mut material = toml::Table::new();
+    for (body, m) in [("upper", &upper), ("lower", &lower)] {
+        material.insert(body.into(), toml::Value::try_from(m).map_err(config_err)?);
+    }
+    v.insert("material".into(), toml::Value::Table(material));
     let s = SweepSection {
         pressures: AxisSpec::List(pressures.to_vec()),
         fluxes: AxisSpec::List(fluxes.to_vec()),
@@ -419,6 +426,19 @@ seed = 5
         let again = SweepConfig::from_toml(&c.resolved, Path::new(".")).unwrap();
         assert_eq!(again.resolved, c.resolved);
         assert_eq!(again.sha256, c.sha256);
+        // Every material key is explicit (issue 14 item 6).
+        let resolved: toml::Table = toml::from_str(&c.resolved).unwrap();
+        for body in ["upper", "lower"] {
+            let m = &resolved["material"][body];
+            for key in [
+                "youngs_modulus",
+                "poisson_ratio",
+                "thermal_conductivity",
+                "conductivity_slope",
+            ] {
+                assert!(m.get(key).is_some(), "material.{body}.{key}");
+            }
+        }
         let p = c.path_case(1, 1, 0);
         assert_eq!(p.load.flux, 1e6);
         match p.surface.upper {
