@@ -190,9 +190,10 @@ impl PointSet {
 /// pressure indicator interpolated from the lumped values,
 /// `p_h = Σ_I (λN^I − εN g^I) R^I`: inside it is the contact pressure,
 /// outside (scaled by −εN) the weighted gap, so its zero crossing locates
-/// the contact edge inside an element instead of at a control point (no
-/// half-element inward bias, issue 11 item 3). In 2D a union of parameter
-/// intervals of the slave face elements.
+/// the contact edge inside an element instead of at a control point (the
+/// nodal active set of the mechanical phase still places it about half an
+/// element inside the exact one). In 2D a union of parameter intervals of
+/// the slave face elements.
 #[derive(Clone, Debug, Default)]
 pub struct ContactZone {
     /// `(slave face element, ξ_start, ξ_end)`.
@@ -318,7 +319,7 @@ impl ContactInterface {
             Integration::Auto => c0_master,
             Integration::Element => false,
         }
-        .then(|| Segmenter::new((*slave_face).clone(), settings.interface_points));
+        .then(|| Segmenter::new(Arc::clone(&slave_face), settings.interface_points));
         let n_s = slave_nodes.len();
         let eps_n = settings.mechanical_penalty.unwrap_or(1.0) / h_min;
         let eps_t = match settings.thermal {

@@ -16,6 +16,8 @@
 //! miss the jump of the integrand's gradient times the breakpoint motion,
 //! which vanishes for a smooth master.
 
+use std::sync::Arc;
+
 use crate::Result;
 use crate::basis::{RationalBasis, TensorBasis};
 use crate::contact::mortar::SlavePoint;
@@ -43,7 +45,7 @@ const BREAK_TOLERANCE: f64 = 1e-13;
 /// The reference slave face and the rule applied to every segment.
 #[derive(Clone, Debug)]
 pub struct Segmenter {
-    face: ThbPatch,
+    face: Arc<ThbPatch>,
     rule: GaussLegendre,
     /// Samples per element at which the pieces are first looked up.
     samples: usize,
@@ -53,7 +55,7 @@ impl Segmenter {
     /// Segments of `face` (the slave face curve, reference configuration,
     /// control points in the order of the interface's slave nodes) with
     /// `n_gauss` points each.
-    pub fn new(face: ThbPatch, n_gauss: usize) -> Self {
+    pub fn new(face: Arc<ThbPatch>, n_gauss: usize) -> Self {
         Segmenter {
             face,
             rule: GaussLegendre::new(n_gauss),
@@ -176,7 +178,7 @@ mod tests {
     #[test]
     fn segments_split_at_the_pieces_and_integrate_the_length() {
         let face = ThbPatch::from(&shapes::rectangle(0.0, 2.0, 0.0, 1.0).face(1, Side::Low).0);
-        let seg = Segmenter::new(face.clone(), 3);
+        let seg = Segmenter::new(Arc::new(face.clone()), 3);
         // Pieces of width 0.3 in x: breakpoints at 0.3, 0.6, ...
         let (pts, breaks) = seg
             .points(face.control_points(), |x| {

@@ -422,16 +422,9 @@ impl<'a> PathSolver<'a> {
                 }
                 break;
             }
-            let t_build = std::time::Instant::now();
             let mut next = PathSolver::with_bodies(case, self.geometry.clone(), bodies)?;
             transfer_state(src, &mut next.model);
             next.last_pressure = pressure;
-            if trace {
-                eprintln!(
-                    "adapt: level {level} built in {:.3} s",
-                    t_build.elapsed().as_secs_f64()
-                );
-            }
             let solved = match next.solve_fluxes_on_mesh(pressure, fluxes, true) {
                 Ok(r) if r.iter().all(|r| r.converged) => r,
                 other => {
@@ -488,9 +481,6 @@ impl<'a> PathSolver<'a> {
             if met {
                 break;
             }
-        }
-        if trace {
-            eprintln!("adapt {pressure:e} Pa: levels done");
         }
         if case.homogenization.method == Method::TwoPhaseSelfConsistent {
             let last = fine.as_mut().unwrap_or(self);
