@@ -111,13 +111,26 @@ enum Command {
         #[arg(long, value_enum, default_value_t = BodyArg::Both)]
         body: BodyArg,
     },
-    /// Write the contact law (ensemble-mean jump and its spread) of a table for macroscale codes.
+    /// Write the contact law of a table for macroscale codes: an ensemble
+    /// statistic of the jump, its spread and its discretization error, the
+    /// materials and the extrapolation policy (schemas/law.md).
     Law {
         /// The table (a complete, merged table with every point converged).
         table: std::path::PathBuf,
         /// The law file (schemas/law.md).
         #[arg(short, long)]
         output: std::path::PathBuf,
+        /// The ensemble statistic the law tabulates (its conductance is |h|/jump
+        /// of it): mean-jump (harmonic mean of the conductances),
+        /// mean-conductance, or quantile:P (P in 1..=99, percent of the jump; high P is conservative).
+        #[arg(long, default_value = "mean-jump")]
+        statistic: String,
+        /// Extrapolation outside the table: POLICY (every axis) or AXIS=POLICY
+        /// (AXIS: pressure, flux, contact_temperature; POLICY: error, clamp,
+        /// linear, power = k ∝ p^m from the end cells, pressure only).
+        /// Repeatable, applied in order. Default: error on every axis.
+        #[arg(long, value_name = "[AXIS=]POLICY")]
+        extrapolate: Vec<String>,
     },
     /// Print performance figures of assembly and the sparse solvers.
     Bench {
@@ -366,22 +379,82 @@ fn surface(
     }
 }
 
-fn law(table: &std::path::Path, output: &std::path::Path) -> ExitCode {
-    match tcgen::io::write_law(table, output) {
+fn law(
+    table: &std::path::Path,
+    output: &std::path::Path,
+    statistic: &str,
+    extrapolate: &[String],
+) -> ExitCode {
+    let options = (|| -> tcgen::Result<tcgen::io::LawOptions> {
+        let mut o = tcgen::io::LawOptions {
+            statistic: statistic.parse()?,
+            ..Default::default()
+        };
+        for e in extrapolate {
+            tcgen::io::apply_extrapolation(&mut o.extrapolation, e)?;
+        }
+        Ok(o)
+    })();
+    let options = match options {
+        Ok(o) => o,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    match tcgen::io::write_law(table, output, &options) {
         Ok(l) => {
             let a = l.axes();
+            let info = l.info();
+            let statistic = match info.statistic {
+                lookup::Statistic::EnsembleMean { samples } => {
+                    format!("mean jump of {samples} samples")
+                }
+                lookup::Statistic::EnsembleMeanConductance { samples } => {
+                    format!("jump of the mean conductance of {samples} samples")
+                }
+                lookup::Statistic::EnsembleQuantile { samples, percent } => {
+                    format!("{percent} % quantile of the jump over {samples} samples")
+                }
+                lookup::Statistic::Deterministic => "deterministic".into(),
+            };
             println!(
-                "wrote {}: {} pressures x {} fluxes x {} contact temperatures, {}",
+                "wrote {}: {} pressures x {} fluxes x {} contact temperatures, {statistic}",
                 output.display(),
                 a.pressure.len(),
                 a.flux.len(),
                 a.contact_temperature.len(),
-                match l.info().statistic {
-                    lookup::Statistic::EnsembleMean { samples } =>
-                        format!("ensemble mean of {samples} samples"),
-                    lookup::Statistic::Deterministic => "deterministic".into(),
+            );
+            let policy = lookup::Axis::ALL
+                .map(|x| format!("{} {}", x.name(), info.extrapolation.get(x)))
+                .join(", ");
+            println!(
+                "  discretization error {}; materials recorded; extrapolation: {policy}",
+                if l.error_estimated() {
+                    let rel = l
+                        .jump_error()
+                        .iter()
+                        .zip(l.jump_mean())
+                        .filter(|(_, m)| **m > 0.0)
+                        .map(|(e, m)| e / m)
+                        .fold(0.0, f64::max);
+                    format!("estimated (at most {:.2} % of the jump)", 100.0 * rel)
+                } else {
+                    "not estimated (table built without [discretization] target_error)".into()
                 }
             );
+            for x in lookup::Axis::ALL {
+                let nodes = a.get(x);
+                if nodes.len() == 1 && info.extrapolation.get(x) == lookup::Extrapolation::Error {
+                    println!(
+                        "  note: one {} node ({}): every other value is outside the table \
+                         (--extrapolate {}=clamp makes the law constant along it)",
+                        x.name(),
+                        nodes[0],
+                        x.name()
+                    );
+                }
+            }
             ExitCode::SUCCESS
         }
         Err(e) => {
@@ -670,7 +743,12 @@ fn main() -> ExitCode {
             points,
             body,
         } => surface(&case, &output, sample, seed, points, body),
-        Command::Law { table, output } => law(&table, &output),
+        Command::Law {
+            table,
+            output,
+            statistic,
+            extrapolate,
+        } => law(&table, &output, &statistic, &extrapolate),
         Command::Bench {
             sizes,
             pressures,

@@ -13,17 +13,25 @@ use std::process::Command;
 use support::*;
 use tcgen::surface::{Profile, Surface, SurfaceSpec};
 
+/// `tcgen law ARGS -o OUT tables/reference.h5`.
+fn law_of_reference(args: &[&str], out: &Path) -> std::process::Output {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    Command::new(env!("CARGO_BIN_EXE_tcgen"))
+        .arg("law")
+        .args(args)
+        .arg("-o")
+        .arg(out)
+        .arg(root.join("tables/reference.h5"))
+        .output()
+        .unwrap()
+}
+
 #[test]
 fn law_of_the_reference_table_reads_back() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let dir = scratch("sweep-cli-law");
     let law_path = dir.join("reference.tclaw");
-    let o = Command::new(env!("CARGO_BIN_EXE_tcgen"))
-        .args(["law", "-o"])
-        .arg(&law_path)
-        .arg(root.join("tables/reference.h5"))
-        .output()
-        .unwrap();
+    let o = law_of_reference(&[], &law_path);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let law = lookup::Law::open(&law_path).unwrap();
     let table = tcgen::io::read_table(&root.join("tables/reference.h5")).unwrap();
@@ -47,6 +55,33 @@ fn law_of_the_reference_table_reads_back() {
     }
     let v = law.eval(table.pressure[0], table.flux[1], 293.15).unwrap();
     assert!((v.jump / law.jump_mean()[1] - 1.0).abs() < 1e-14);
+    // Issue 14 item 2: safe default outside the table, the materials recorded.
+    assert!(
+        law.eval(table.pressure[0] / 2.0, table.flux[1], 293.15)
+            .is_err()
+    );
+    assert!(law.info().material.is_some());
+
+    // Options: a physical continuation along pressure; bad options exit 2.
+    let o = law_of_reference(
+        &["--extrapolate", "clamp", "--extrapolate", "pressure=power"],
+        &law_path,
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let law = lookup::Law::open(&law_path).unwrap();
+    let v = law
+        .eval(table.pressure[0] / 2.0, table.flux[1], 293.15)
+        .unwrap();
+    assert!(v.extrapolated[0] && v.jump > law.jump_mean()[1]);
+    for (args, needle) in [
+        (["--statistic", "quantile:150"], "--statistic"),
+        (["--extrapolate", "flux=power"], "pressure only"),
+    ] {
+        let o = law_of_reference(&args, &dir.join("bad.tclaw"));
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.code() == Some(2) && err.contains(needle), "{err}");
+        assert!(!dir.join("bad.tclaw").exists());
+    }
 }
 
 #[test]

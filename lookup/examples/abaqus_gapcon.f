@@ -25,6 +25,12 @@
 !     Units: the law is SI. Set T_OFFSET = 273.15 for a model in
 !     Celsius; scale D(2) and AK if the model is not in SI units.
 !
+!     Outside the law's table the law file's extrapolation policy
+!     decides (tcgen law --extrapolate; the default 'error' stops the
+!     analysis with the library's message in the .msg file). When the
+!     policy lets the value through (clamp, linear, power), the flags
+!     say so and GAPCON issues an Abaqus warning (the first MAX_WARN).
+!
 !     The law is opened once, in UEXTERNALDB at the start of the
 !     analysis (before the solver threads run GAPCON), and freed at the
 !     end; the handle is read-only afterwards, so GAPCON is thread safe.
@@ -37,6 +43,9 @@
       double precision, parameter :: T_OFFSET = 0.0d0
 !     Cap on the conductance where the jump vanishes (full contact).
       double precision, parameter :: K_MAX = 1.0d9
+!     Extrapolation warnings issued (at most MAX_WARN).
+      integer, parameter :: MAX_WARN = 10
+      integer, save :: n_warn = 0
       end module tcgen_law_state
 !
       SUBROUTINE UEXTERNALDB(LOP,LRESTART,TIME,DTIME,KSTEP,KINC)
@@ -82,6 +91,7 @@
       type(lookup_flux_value) :: val
       integer(c_int32_t) :: status
       real(c_double) :: p, jump, theta
+      logical :: warn
 !
       AK(2) = 0.0d0
       p = D(2)
@@ -103,5 +113,19 @@
       END IF
       AK(1) = val%conductance
       AK(3) = val%d_conductance_dp
+      IF (iand(val%flags, LOOKUP_FLAG_EXTRAPOLATED) .NE. 0) THEN
+!$omp critical (tcgen_law_warn)
+        n_warn = n_warn + 1
+        warn = n_warn .LE. MAX_WARN
+!$omp end critical (tcgen_law_warn)
+        IF (warn) THEN
+          WRITE(7,*) 'GAPCON: element', NOEL, ' node', NODE,
+     &      ': p, jump, theta_c =', p, jump, theta,
+     &      ' outside the law table (extrapolated, flags', val%flags,
+     &      ')'
+          CALL STDB_ABQERR(-1, 'GAPCON: contact law extrapolated '//
+     &      '(%I warning(s); see .msg)', n_warn, 0.0d0, ' ')
+        END IF
+      END IF
       RETURN
       END

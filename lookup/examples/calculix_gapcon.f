@@ -23,6 +23,12 @@
 !     The law is opened on the first call; the critical section keeps
 !     that safe when ccx runs gapcon from several OpenMP threads.
 !
+!     Outside the law's table the law file's extrapolation policy
+!     decides (tcgen law --extrapolate; the default 'error' stops the
+!     analysis with the library's message). When the policy lets the
+!     value through (clamp, linear, power), the flags say so and a
+!     warning names the element and the query (the first MAX_WARN).
+!
       subroutine gapcon(ak,d,flowm,temp,predef,time,ciname,slname,
      &   msname,coords,noel,node,npred,kstep,kinc,area)
       use lookup_c
@@ -38,6 +44,9 @@
       real*8, parameter :: t_offset = 0.d0
 !     cap on the conductance where the jump vanishes (full contact)
       real*8, parameter :: k_max = 1.d9
+      integer, parameter :: max_warn = 10
+      integer, save :: n_warn = 0
+      logical :: warn
       character(len=1024) :: path
       integer(c_int32_t) :: status
       integer plen
@@ -73,6 +82,23 @@
         call exit(201)
       endif
       ak(1) = val%conductance
+!
+      if (iand(val%flags, LOOKUP_FLAG_EXTRAPOLATED) .ne. 0) then
+!$omp critical (tcgen_law_warn)
+        n_warn = n_warn + 1
+        warn = n_warn .le. max_warn
+!$omp end critical (tcgen_law_warn)
+        if (warn) then
+          write(*,'(a,i0,a,es12.5,a,es12.5,a,es12.5,2a,i0,a)')
+     &      ' *WARNING in gapcon: element ', noel, ': p = ', d(2),
+     &      ' Pa, jump = ', abs(temp(1) - temp(2)), ' K, theta_c = ',
+     &      temp(2) + t_offset, ' K outside the law table ',
+     &      '(extrapolated, flags ', val%flags, ')'
+          if (n_warn .eq. max_warn) write(*,*)
+     &      '*WARNING in gapcon: further extrapolation warnings ',
+     &      'suppressed'
+        endif
+      endif
 !
       return
       end

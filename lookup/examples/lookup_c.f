@@ -21,6 +21,9 @@
       integer(c_int32_t), parameter :: LOOKUP_ERR_INVALID_QUERY = 8
       integer(c_int32_t), parameter :: LOOKUP_ERR_OUT_OF_RANGE = 9
       integer(c_int32_t), parameter :: LOOKUP_ERR_VANISHING_JUMP = 10
+      integer(c_int32_t), parameter :: LOOKUP_ERR_NON_FINITE_RESULT = 11
+      integer(c_int32_t), parameter :: LOOKUP_ERR_PANIC = 12
+      integer(c_int32_t), parameter :: LOOKUP_ERR_MATERIAL_MISMATCH=13
 !
 !     Axis and extrapolation codes.
       integer(c_int32_t), parameter :: LOOKUP_AXIS_ALL = -1
@@ -30,10 +33,23 @@
       integer(c_int32_t), parameter :: LOOKUP_EXTRAPOLATE_ERROR = 0
       integer(c_int32_t), parameter :: LOOKUP_EXTRAPOLATE_CLAMP = 1
       integer(c_int32_t), parameter :: LOOKUP_EXTRAPOLATE_LINEAR = 2
+      integer(c_int32_t), parameter :: LOOKUP_EXTRAPOLATE_POWER = 3
+!
+!     Bits of the flags fields (test with iand).
+      integer(c_int32_t), parameter :: LOOKUP_FLAG_EXTRAP_PRESSURE = 1
+      integer(c_int32_t), parameter :: LOOKUP_FLAG_EXTRAP_FLUX = 2
+      integer(c_int32_t), parameter :: LOOKUP_FLAG_EXTRAP_TEMP = 4
+      integer(c_int32_t), parameter :: LOOKUP_FLAG_EXTRAPOLATED = 7
+      integer(c_int32_t), parameter :: LOOKUP_FLAG_CAPPED = 8
+      integer(c_int32_t), parameter :: LOOKUP_FLAG_NO_ERROR_EST = 16
+!
+!     Body codes of lookup_law_check_material.
+      integer(c_int32_t), parameter :: LOOKUP_BODY_UPPER = 1
+      integer(c_int32_t), parameter :: LOOKUP_BODY_LOWER = 2
 !
 !     struct lookup_value: the law at (p, |h|, theta).
       type, bind(c) :: lookup_value
-        real(c_double) :: flux, jump, jump_std
+        real(c_double) :: flux, jump, jump_std, jump_error
         real(c_double) :: d_jump_dp, d_jump_dh, d_jump_dtheta
         real(c_double) :: conductance, d_conductance_dp
         real(c_double) :: d_conductance_dh, d_conductance_dtheta
@@ -42,7 +58,7 @@
 !
 !     struct lookup_flux_value: the law at (p, jump, theta).
       type, bind(c) :: lookup_flux_value
-        real(c_double) :: flux, jump_std, conductance
+        real(c_double) :: flux, jump_std, jump_error, conductance
         real(c_double) :: d_flux_dp, d_flux_djump, d_flux_dtheta
         real(c_double) :: d_conductance_dp, d_conductance_djump
         real(c_double) :: d_conductance_dtheta
@@ -92,6 +108,16 @@
           real(c_double), value :: k_max
           integer(c_int32_t) :: lookup_law_set_max_conductance
         end function lookup_law_set_max_conductance
+!
+        function lookup_law_check_material(law, body, props, rel_tol)
+     &      bind(c, name='lookup_law_check_material')
+          import :: c_ptr, c_double, c_int32_t
+          type(c_ptr), value :: law
+          integer(c_int32_t), value :: body
+          real(c_double), dimension(6), intent(in) :: props
+          real(c_double), value :: rel_tol
+          integer(c_int32_t) :: lookup_law_check_material
+        end function lookup_law_check_material
 !
         subroutine lookup_law_free(law)
      &      bind(c, name='lookup_law_free')

@@ -54,10 +54,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let info = LawInfo {
         statistic: Statistic::EnsembleMean { samples: 16 },
         extrapolation: ExtrapolationPolicy {
-            pressure: Extrapolation::Clamp,
+            pressure: Extrapolation::Power,
             flux: Extrapolation::Clamp,
             contact_temperature: Extrapolation::Linear,
         },
+        material: None,
         provenance: vec![
             ("generator".into(), "lookup synthetic_law example".into()),
             (

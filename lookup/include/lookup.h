@@ -39,6 +39,7 @@ extern "C" {
 #define LOOKUP_ERR_VANISHING_JUMP 10    /* jump <= 0 and no conductance cap */
 #define LOOKUP_ERR_NON_FINITE_RESULT 11 /* overflow (extreme extrapolation) */
 #define LOOKUP_ERR_PANIC 12             /* internal error (a bug) */
+#define LOOKUP_ERR_MATERIAL_MISMATCH 13 /* material differs from the law's (or none recorded) */
 
 /* Axis codes. */
 #define LOOKUP_AXIS_ALL (-1)
@@ -50,12 +51,18 @@ extern "C" {
 #define LOOKUP_EXTRAPOLATE_ERROR 0  /* out of range is an error */
 #define LOOKUP_EXTRAPOLATE_CLAMP 1  /* the law is constant beyond the table */
 #define LOOKUP_EXTRAPOLATE_LINEAR 2 /* linear in (ln p, h, theta) beyond it */
+#define LOOKUP_EXTRAPOLATE_POWER 3  /* pressure only: jump ~ p^s from the end cell */
 
 /* Bits of the `flags` fields. */
 #define LOOKUP_FLAG_EXTRAPOLATED_PRESSURE 1u
 #define LOOKUP_FLAG_EXTRAPOLATED_FLUX 2u
 #define LOOKUP_FLAG_EXTRAPOLATED_CONTACT_TEMPERATURE 4u
 #define LOOKUP_FLAG_CONDUCTANCE_CAPPED 8u
+#define LOOKUP_FLAG_NO_ERROR_ESTIMATE 16u /* the law has no discretization-error estimate */
+
+/* Body codes of lookup_law_check_material. */
+#define LOOKUP_BODY_UPPER 1 /* body 1, slave */
+#define LOOKUP_BODY_LOWER 2 /* body 2, master */
 
 /* Opaque handle of a law. */
 typedef struct lookup_law lookup_law;
@@ -65,6 +72,7 @@ typedef struct lookup_value {
     double flux;                 /* |h| at which k is evaluated [W/m^2] (bound if clamped) */
     double jump;                 /* temperature jump [K] */
     double jump_std;             /* its ensemble standard deviation [K] */
+    double jump_error;           /* its estimated discretization error [K] (0: flag NO_ERROR_ESTIMATE) */
     double d_jump_dp;            /* d jump / d p [K/Pa] */
     double d_jump_dh;            /* d jump / d |h| [K m^2/W] */
     double d_jump_dtheta;        /* d jump / d theta_c [-] */
@@ -82,6 +90,7 @@ typedef struct lookup_value {
 typedef struct lookup_flux_value {
     double flux;                 /* |h| producing the jump [W/m^2] */
     double jump_std;             /* ensemble standard deviation of the jump there [K] */
+    double jump_error;           /* estimated discretization error of the jump there [K] */
     double conductance;          /* k = |h| / jump [W/(m^2 K)] */
     double d_flux_dp;
     double d_flux_djump;         /* thermal tangent of the interface */
@@ -122,8 +131,16 @@ int32_t lookup_law_eval_at_jump(const lookup_law *law, double p, double jump,
                                 double theta, lookup_flux_value *out);
 
 /* Overrides the extrapolation policy of one axis (LOOKUP_AXIS_*, or
- * LOOKUP_AXIS_ALL) with LOOKUP_EXTRAPOLATE_*. */
+ * LOOKUP_AXIS_ALL) with LOOKUP_EXTRAPOLATE_* (POWER: pressure only). */
 int32_t lookup_law_set_extrapolation(lookup_law *law, int32_t axis, int32_t policy);
+
+/* Checks the caller's material of body LOOKUP_BODY_UPPER or LOOKUP_BODY_LOWER
+ * against the law's: properties[6] = {E [Pa], nu, alpha0 [1/K], k0 [W/(m K)],
+ * k1 [W/(m K^2)], theta0 [K]}. LOOKUP_ERR_MATERIAL_MISMATCH (message names the
+ * property) if one differs by more than rel_tol (relative), or if the law
+ * records no material. */
+int32_t lookup_law_check_material(const lookup_law *law, int32_t body,
+                                  const double *properties, double rel_tol);
 
 /* Caps the conductance at k_max > 0 (where the jump vanishes too); 0 removes the cap. */
 int32_t lookup_law_set_max_conductance(lookup_law *law, double k_max);
@@ -142,7 +159,7 @@ size_t lookup_last_error(char *buf, size_t len);
 /* Static name of a status code, e.g. "LOOKUP_ERR_OUT_OF_RANGE". */
 const char *lookup_status_name(int32_t status);
 
-/* Law file format version read and written by this library. */
+/* Law file format version written by this library (it reads 1 to this). */
 uint32_t lookup_format_version(void);
 
 #ifdef __cplusplus

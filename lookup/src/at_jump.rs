@@ -18,6 +18,9 @@ pub struct FluxValue {
     pub flux: f64,
     /// Standard deviation of the jump over the ensemble at that flux \[K\].
     pub jump_std: f64,
+    /// Estimated discretization error of the jump there \[K\] (0 when the law
+    /// carries no estimate).
+    pub jump_error: f64,
     /// Conductance `k̄c = |h̄| / jump` \[W/(m²·K)\].
     pub conductance: f64,
     /// ∂|h̄|/∂p̄N at fixed jump and θ̄c.
@@ -45,6 +48,7 @@ struct Node {
     g_x: f64,
     g_theta: f64,
     std: f64,
+    error: f64,
 }
 
 impl Law {
@@ -76,11 +80,12 @@ impl Law {
         let node = |ih: usize| {
             let mut n = Node::default();
             for (it, w, dw) in [(wt.i0, wt.w0, wt.dw0), (wt.i1, wt.w1, wt.dw1)] {
-                let (f, df, s) = self.line(&wp, ih, it);
-                n.g += w * f;
-                n.g_x += w * df;
-                n.g_theta += dw * f;
-                n.std += w * s;
+                let l = self.line(&wp, ih, it);
+                n.g += w * l.value;
+                n.g_x += w * l.d_dx;
+                n.g_theta += dw * l.value;
+                n.std += w * l.std;
+                n.error += w * l.error;
             }
             n
         };
@@ -148,7 +153,8 @@ impl Law {
                         };
                         return self.clamped(out, h_b, n, wp.dx_dp, jump, options);
                     }
-                    Extrapolation::Linear => {}
+                    // `power` is not allowed along flux (validated); as linear.
+                    Extrapolation::Linear | Extrapolation::Power => {}
                 }
                 let (j, a, b) = if low {
                     (0, first, node(1))
@@ -176,6 +182,7 @@ impl Law {
         let j_theta = lerp(a.g_theta, b.g_theta);
         out.flux = h;
         out.jump_std = lerp(a.std, b.std).max(0.0);
+        out.jump_error = lerp(a.error, b.error).max(0.0);
         out.d_flux_djump = 1.0 / j_h;
         out.d_flux_dp = -j_p / j_h;
         out.d_flux_dtheta = -j_theta / j_h;
@@ -207,6 +214,7 @@ impl Law {
         options: &EvalOptions,
     ) -> Result<FluxValue, EvalError> {
         out.jump_std = n.std.max(0.0);
+        out.jump_error = n.error.max(0.0);
         let k = h_b / n.g;
         let dk = [-k * n.g_x * dx_dp / n.g, 0.0, -k * n.g_theta / n.g];
         let computable = n.g > 0.0 && k.is_finite();

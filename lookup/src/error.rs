@@ -81,7 +81,7 @@ pub enum Error {
     UnsupportedVersion {
         /// Version found in the file.
         found: u32,
-        /// Version this reader supports.
+        /// Newest version this reader supports (it reads versions 1 to this one).
         supported: u32,
     },
     /// The file is shorter than its header declares.
@@ -151,7 +151,7 @@ impl fmt::Display for Error {
             ),
             Error::UnsupportedVersion { found, supported } => write!(
                 f,
-                "unsupported law format version {found} (this reader supports version {supported})"
+                "unsupported law format version {found} (this reader supports versions 1 to {supported})"
             ),
             Error::Truncated { expected, actual } => write!(
                 f,

@@ -40,6 +40,9 @@ pub const LOOKUP_ERR_VANISHING_JUMP: i32 = 10;
 pub const LOOKUP_ERR_NON_FINITE_RESULT: i32 = 11;
 /// An internal panic was caught (a bug: please report it).
 pub const LOOKUP_ERR_PANIC: i32 = 12;
+/// The caller's material differs from the one the law was built for (or
+/// the law records none): `lookup_law_check_material`.
+pub const LOOKUP_ERR_MATERIAL_MISMATCH: i32 = 13;
 
 /// Flag bit: the pressure was outside the table.
 pub const LOOKUP_FLAG_EXTRAPOLATED_PRESSURE: u32 = 1;
@@ -49,6 +52,8 @@ pub const LOOKUP_FLAG_EXTRAPOLATED_FLUX: u32 = 2;
 pub const LOOKUP_FLAG_EXTRAPOLATED_CONTACT_TEMPERATURE: u32 = 4;
 /// Flag bit: the conductance is the cap.
 pub const LOOKUP_FLAG_CONDUCTANCE_CAPPED: u32 = 8;
+/// Flag bit: the law carries no discretization-error estimate (`jump_error` is 0).
+pub const LOOKUP_FLAG_NO_ERROR_ESTIMATE: u32 = 16;
 
 /// Axis code meaning "every axis" in `lookup_law_set_extrapolation`.
 pub const LOOKUP_AXIS_ALL: i32 = -1;
@@ -66,6 +71,8 @@ pub struct LookupValue {
     pub jump: f64,
     /// See [`Value::jump_std`].
     pub jump_std: f64,
+    /// See [`Value::jump_error`].
+    pub jump_error: f64,
     /// See [`Value::d_jump_dp`].
     pub d_jump_dp: f64,
     /// See [`Value::d_jump_dh`].
@@ -94,6 +101,8 @@ pub struct LookupFluxValue {
     pub flux: f64,
     /// See [`FluxValue::jump_std`].
     pub jump_std: f64,
+    /// See [`FluxValue::jump_error`].
+    pub jump_error: f64,
     /// See [`FluxValue::conductance`].
     pub conductance: f64,
     /// See [`FluxValue::d_flux_dp`].
@@ -114,8 +123,12 @@ pub struct LookupFluxValue {
     pub reserved: u32,
 }
 
-fn flags(extrapolated: [bool; 3], capped: bool) -> u32 {
-    let mut f = 0;
+fn flags(extrapolated: [bool; 3], capped: bool, error_estimated: bool) -> u32 {
+    let mut f = if error_estimated {
+        0
+    } else {
+        LOOKUP_FLAG_NO_ERROR_ESTIMATE
+    };
     for (i, &e) in extrapolated.iter().enumerate() {
         if e {
             f |= 1 << i;
@@ -127,12 +140,14 @@ fn flags(extrapolated: [bool; 3], capped: bool) -> u32 {
     f
 }
 
-impl From<Value> for LookupValue {
-    fn from(v: Value) -> Self {
+impl LookupValue {
+    /// The C value of `v` from a law with or without an error estimate.
+    pub fn new(v: Value, error_estimated: bool) -> Self {
         LookupValue {
             flux: v.flux,
             jump: v.jump,
             jump_std: v.jump_std,
+            jump_error: v.jump_error,
             d_jump_dp: v.d_jump_dp,
             d_jump_dh: v.d_jump_dh,
             d_jump_dtheta: v.d_jump_dtheta,
@@ -140,17 +155,19 @@ impl From<Value> for LookupValue {
             d_conductance_dp: v.d_conductance_dp,
             d_conductance_dh: v.d_conductance_dh,
             d_conductance_dtheta: v.d_conductance_dtheta,
-            flags: flags(v.extrapolated, v.conductance_capped),
+            flags: flags(v.extrapolated, v.conductance_capped, error_estimated),
             reserved: 0,
         }
     }
 }
 
-impl From<FluxValue> for LookupFluxValue {
-    fn from(v: FluxValue) -> Self {
+impl LookupFluxValue {
+    /// The C value of `v` from a law with or without an error estimate.
+    pub fn new(v: FluxValue, error_estimated: bool) -> Self {
         LookupFluxValue {
             flux: v.flux,
             jump_std: v.jump_std,
+            jump_error: v.jump_error,
             conductance: v.conductance,
             d_flux_dp: v.d_flux_dp,
             d_flux_djump: v.d_flux_djump,
@@ -158,7 +175,7 @@ impl From<FluxValue> for LookupFluxValue {
             d_conductance_dp: v.d_conductance_dp,
             d_conductance_djump: v.d_conductance_djump,
             d_conductance_dtheta: v.d_conductance_dtheta,
-            flags: flags(v.extrapolated, v.conductance_capped),
+            flags: flags(v.extrapolated, v.conductance_capped, error_estimated),
             reserved: 0,
         }
     }
@@ -252,6 +269,7 @@ fn policy_from_code(code: i32) -> Option<Extrapolation> {
         0 => Some(Extrapolation::Error),
         1 => Some(Extrapolation::Clamp),
         2 => Some(Extrapolation::Linear),
+        3 => Some(Extrapolation::Power),
         _ => None,
     }
 }
@@ -339,6 +357,7 @@ pub unsafe extern "C" fn lookup_law_from_grid(
                 samples => Statistic::EnsembleMean { samples },
             },
             extrapolation: crate::ExtrapolationPolicy::uniform(policy),
+            material: None,
             provenance: vec![("generator".into(), "lookup C ABI".into())],
         };
         into_handle(Law::from_grid(axes, mean, std, info), &mut law)
@@ -391,7 +410,7 @@ pub unsafe extern "C" fn lookup_law_eval(
         };
         match law.0.eval(p, h, theta) {
             Ok(v) => {
-                *out = v.into();
+                *out = LookupValue::new(v, law.0.error_estimated());
                 LOOKUP_OK
             }
             Err(e) => {
@@ -423,7 +442,7 @@ pub unsafe extern "C" fn lookup_law_eval_at_jump(
         };
         match law.0.eval_at_jump(p, jump, theta) {
             Ok(v) => {
-                *out = v.into();
+                *out = LookupFluxValue::new(v, law.0.error_estimated());
                 LOOKUP_OK
             }
             Err(e) => {
@@ -435,7 +454,8 @@ pub unsafe extern "C" fn lookup_law_eval_at_jump(
 }
 
 /// Overrides the extrapolation policy of `axis` (0 pressure, 1 flux, 2 contact
-/// temperature, -1 all) with `policy` (0 error, 1 clamp, 2 linear).
+/// temperature, -1 all) with `policy` (0 error, 1 clamp, 2 linear, 3 power:
+/// pressure only).
 ///
 /// # Safety
 /// `law` is NULL or a live handle not used concurrently.
@@ -453,7 +473,7 @@ pub unsafe extern "C" fn lookup_law_set_extrapolation(
         let Some(policy) = policy_from_code(policy) else {
             return fail(
                 LOOKUP_ERR_INVALID_ARGUMENT,
-                "extrapolation code not in {0, 1, 2}",
+                "extrapolation code not in {0, 1, 2, 3}",
             );
         };
         let mut p = law.0.options().extrapolation;
@@ -467,8 +487,62 @@ pub unsafe extern "C" fn lookup_law_set_extrapolation(
                 "axis code not in {-1, 0, 1, 2}",
             );
         }
-        law.0.set_extrapolation(p);
-        LOOKUP_OK
+        match law.0.set_extrapolation(p) {
+            Ok(()) => LOOKUP_OK,
+            Err(e) => file_error(e),
+        }
+    })
+}
+
+/// Checks the caller's material of `body` (1: body 1, slave, upper; 2: body
+/// 2, master, lower) against the one the law was built for. `properties`
+/// holds 6 values in SI: Young's modulus E \[Pa\], Poisson's ratio ν,
+/// thermal expansion α0 \[1/K\], conductivity k0 \[W/(m·K)\], conductivity
+/// slope k1 \[W/(m·K²)\], reference temperature θ0 \[K\]. Returns
+/// `LOOKUP_ERR_MATERIAL_MISMATCH` (the message names the property) when one
+/// differs by more than `rel_tol` relative, or when the law records no material.
+///
+/// # Safety
+/// `law` is NULL or a live handle; `properties` is NULL or readable for 6 doubles.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn lookup_law_check_material(
+    law: *const LookupLaw,
+    body: i32,
+    properties: *const f64,
+    rel_tol: f64,
+) -> i32 {
+    guard(|| {
+        // SAFETY: the caller passes NULL or a live handle.
+        let Some(law) = (unsafe { law.as_ref() }) else {
+            return fail(LOOKUP_ERR_NULL_ARGUMENT, "law is NULL");
+        };
+        if properties.is_null() {
+            return fail(LOOKUP_ERR_NULL_ARGUMENT, "properties is NULL");
+        }
+        let name = match body {
+            1 => "upper",
+            2 => "lower",
+            _ => return fail(LOOKUP_ERR_INVALID_ARGUMENT, "body code not in {1, 2}"),
+        };
+        if !(rel_tol.is_finite() && rel_tol >= 0.0) {
+            return fail(
+                LOOKUP_ERR_INVALID_ARGUMENT,
+                "rel_tol: expected finite and >= 0",
+            );
+        }
+        let mut v = [0.0; 6];
+        // SAFETY: the caller passes 6 readable doubles.
+        v.copy_from_slice(unsafe { std::slice::from_raw_parts(properties, 6) });
+        match law
+            .0
+            .check_material(name, &crate::BodyMaterial::from_values(v), rel_tol)
+        {
+            Ok(()) => LOOKUP_OK,
+            Err(e) => {
+                set_last(LastError::Message(e.to_string()));
+                LOOKUP_ERR_MATERIAL_MISMATCH
+            }
+        }
     })
 }
 
@@ -584,6 +658,7 @@ pub extern "C" fn lookup_status_name(status: i32) -> *const c_char {
         LOOKUP_ERR_VANISHING_JUMP => c"LOOKUP_ERR_VANISHING_JUMP",
         LOOKUP_ERR_NON_FINITE_RESULT => c"LOOKUP_ERR_NON_FINITE_RESULT",
         LOOKUP_ERR_PANIC => c"LOOKUP_ERR_PANIC",
+        LOOKUP_ERR_MATERIAL_MISMATCH => c"LOOKUP_ERR_MATERIAL_MISMATCH",
         _ => c"LOOKUP_UNKNOWN_STATUS",
     };
     s.as_ptr()

@@ -1,15 +1,16 @@
-//! The binary law file, format version 1 (specified in `schemas/law.md`):
+//! The binary law file, format version 2 (specified in `schemas/law.md`;
+//! version 1, without the discretization-error array, is still read):
 //!
 //! | offset | size | content |
 //! |---|---|---|
 //! | 0 | 8 | magic `89 54 43 4C 41 57 0D 0A` (`\x89TCLAW\r\n`) |
-//! | 8 | 4 | format version, u32 = 1 |
+//! | 8 | 4 | format version, u32 = 2 |
 //! | 12 | 4 | `n_p`, u32 ≥ 1 |
 //! | 16 | 4 | `n_h`, u32 ≥ 1 |
 //! | 20 | 4 | `n_θ`, u32 ≥ 1 |
 //! | 24 | 8 | `M`, metadata length in bytes, u64 |
 //! | 32 | M | metadata, UTF-8 `key = value` lines |
-//! | 32 + M | 8 (n_p + n_h + n_θ + 2N) | f64 arrays: pressure, flux, contact temperature, jump_mean, jump_std (`N = n_p n_h n_θ`) |
+//! | 32 + M | 8 (n_p + n_h + n_θ + 3N) | f64 arrays: pressure, flux, contact temperature, jump_mean, jump_std, jump_error (`N = n_p n_h n_θ`; version 1: no jump_error) |
 //! | end − 4 | 4 | CRC-32 of all preceding bytes, u32 |
 //!
 //! All integers and floats little-endian. The reader checks, in order: size
@@ -25,17 +26,25 @@ use std::path::Path;
 
 /// The 8 magic bytes that open a law file.
 pub const MAGIC: [u8; 8] = *b"\x89TCLAW\r\n";
-/// The format version this crate reads and writes.
-pub const FORMAT_VERSION: u32 = 1;
+/// The format version this crate writes (and the newest it reads).
+pub const FORMAT_VERSION: u32 = 2;
+/// The oldest format version this crate reads.
+pub const OLDEST_READ_VERSION: u32 = 1;
 /// Size of the fixed header in bytes.
 pub const HEADER_BYTES: usize = 32;
 /// Largest law file the reader accepts (1 GiB).
 pub const MAX_FILE_BYTES: u64 = 1 << 30;
 
+/// Number of per-entry arrays of a format version (version 1: mean, std;
+/// version 2: mean, std, discretization error).
+const fn arrays(version: u32) -> u128 {
+    if version >= 2 { 3 } else { 2 }
+}
+
 /// Bytes of a file with these counts, or `None` on overflow.
-fn declared_size(counts: [u64; 3], meta_len: u64) -> Option<u128> {
+fn declared_size(counts: [u64; 3], meta_len: u64, version: u32) -> Option<u128> {
     let n = counts[0] as u128 * counts[1] as u128 * counts[2] as u128;
-    let floats = counts.iter().map(|&c| c as u128).sum::<u128>() + 2 * n;
+    let floats = counts.iter().map(|&c| c as u128).sum::<u128>() + arrays(version) * n;
     Some(HEADER_BYTES as u128 + meta_len as u128 + 8 * floats + 4)
 }
 
@@ -94,11 +103,11 @@ impl Law {
 
     /// The law file as bytes.
     pub fn to_bytes(&self) -> Vec<u8> {
-        let meta = info::to_text(&self.info);
+        let meta = info::to_text(&self.info, self.error_estimated);
         let counts = Axis::ALL.map(|a| self.axes.get(a).len());
         let n = self.jump_mean.len();
         let mut out = Vec::with_capacity(
-            HEADER_BYTES + meta.len() + 8 * (counts.iter().sum::<usize>() + 2 * n) + 4,
+            HEADER_BYTES + meta.len() + 8 * (counts.iter().sum::<usize>() + 3 * n) + 4,
         );
         out.extend_from_slice(&MAGIC);
         out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
@@ -113,7 +122,12 @@ impl Law {
                 out.extend_from_slice(&x.to_le_bytes());
             }
         }
-        for x in self.jump_mean.iter().chain(&self.jump_std) {
+        for x in self
+            .jump_mean
+            .iter()
+            .chain(&self.jump_std)
+            .chain(&self.jump_error)
+        {
             out.extend_from_slice(&x.to_le_bytes());
         }
         let crc = crc32(&out);
@@ -150,7 +164,7 @@ impl Law {
             });
         }
         let version = u32_at(bytes, 8);
-        if version != FORMAT_VERSION {
+        if !(OLDEST_READ_VERSION..=FORMAT_VERSION).contains(&version) {
             return Err(Error::UnsupportedVersion {
                 found: version,
                 supported: FORMAT_VERSION,
@@ -164,7 +178,7 @@ impl Law {
         }
         let counts = [u32_at(bytes, 12), u32_at(bytes, 16), u32_at(bytes, 20)].map(u64::from);
         let meta_len = u64::from(u32_at(bytes, 24)) | (u64::from(u32_at(bytes, 28)) << 32);
-        let expected = declared_size(counts, meta_len).unwrap_or(u128::MAX);
+        let expected = declared_size(counts, meta_len, version).unwrap_or(u128::MAX);
         if expected != actual as u128 {
             let expected = u64::try_from(expected).unwrap_or(u64::MAX);
             return Err(if expected > actual {
@@ -191,7 +205,7 @@ impl Law {
         let meta_end = HEADER_BYTES + meta_len as usize;
         let text = std::str::from_utf8(&bytes[HEADER_BYTES..meta_end])
             .map_err(|e| Error::metadata(0, format!("not UTF-8: {e}")))?;
-        let info = info::from_text(text)?;
+        let (info, error_estimated) = info::from_text(text, version)?;
         let mut r = Reader {
             bytes,
             pos: meta_end,
@@ -205,7 +219,22 @@ impl Law {
         let n = np * nh * nt;
         let jump_mean = r.f64s(n);
         let jump_std = r.f64s(n);
-        Law::from_grid(axes, jump_mean, jump_std, info)
+        let jump_error = if version >= 2 {
+            r.f64s(n)
+        } else {
+            vec![0.0; n]
+        };
+        if !error_estimated && let Some(i) = jump_error.iter().position(|&e| e != 0.0) {
+            return Err(Error::invalid(
+                format!("jump_error[{i}]"),
+                format!(
+                    "{}: the metadata says discretization_error = not_estimated (the array must be 0)",
+                    jump_error[i]
+                ),
+            ));
+        }
+        let error = error_estimated.then_some(jump_error);
+        Law::from_grid_with_error(axes, jump_mean, jump_std, error, info)
     }
 }
 
@@ -249,13 +278,13 @@ mod tests {
             Law::from_bytes(b"hello world, no law"),
             Err(Error::BadMagic { .. })
         ));
-        let mut v2 = bytes.clone();
-        v2[8] = 2;
+        let mut v3 = bytes.clone();
+        v3[8] = 3;
         assert!(matches!(
-            Law::from_bytes(&v2),
+            Law::from_bytes(&v3),
             Err(Error::UnsupportedVersion {
-                found: 2,
-                supported: 1
+                found: 3,
+                supported: 2
             })
         ));
         let mut long = bytes.clone();

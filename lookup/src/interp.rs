@@ -180,6 +180,9 @@ pub(crate) struct HermiteWeights {
     /// `dx/dp = 1/p` (0 when clamped or on a single-node axis).
     pub dx_dp: f64,
     pub extrapolated: bool,
+    /// Power continuation beyond the upper (`Some(true)`) or lower end:
+    /// `c[0] = x − x_end`, `c[1] = x_end − x_other` (see `Law::line`).
+    pub power: Option<bool>,
 }
 
 /// Bracket `p > 0` (or `p = 0` under `Clamp`) on the pressure axis, nodes
@@ -210,6 +213,7 @@ pub(crate) fn log_hermite_weights(
         dc: [0.0; 4],
         dx_dp: 0.0,
         extrapolated: outside,
+        power: None,
     };
     if n == 1 {
         return Ok(constant(0, 0, [1.0, 0.0, 0.0, 0.0]));
@@ -226,10 +230,27 @@ pub(crate) fn log_hermite_weights(
         return Err(EvalError::Invalid {
             axis: Axis::Pressure,
             value: p,
-            expected: "p > 0 for linear extrapolation in ln p",
+            expected: "p > 0 for linear or power extrapolation in ln p",
         });
     }
     let x = p.ln();
+    if outside && policy == Extrapolation::Power {
+        let upper = p > hi;
+        let (i0, e, o) = if upper {
+            (n - 2, n - 1, n - 2)
+        } else {
+            (0, 0, 1)
+        };
+        return Ok(HermiteWeights {
+            i0,
+            i1: i0 + 1,
+            c: [x - x_nodes[e], x_nodes[e] - x_nodes[o], 0.0, 0.0],
+            dc: [0.0; 4],
+            dx_dp: 1.0 / p,
+            extrapolated: true,
+            power: Some(upper),
+        });
+    }
     if p < lo {
         return Ok(HermiteWeights {
             i0: 0,
@@ -238,6 +259,7 @@ pub(crate) fn log_hermite_weights(
             dc: [0.0, 1.0, 0.0, 0.0],
             dx_dp: 1.0 / p,
             extrapolated: true,
+            power: None,
         });
     }
     if p > hi {
@@ -248,6 +270,7 @@ pub(crate) fn log_hermite_weights(
             dc: [0.0, 0.0, 0.0, 1.0],
             dx_dp: 1.0 / p,
             extrapolated: true,
+            power: None,
         });
     }
     let i = interval(p_nodes, p);
@@ -272,6 +295,7 @@ pub(crate) fn log_hermite_weights(
         ],
         dx_dp: 1.0 / p,
         extrapolated: false,
+        power: None,
     })
 }
 

@@ -63,6 +63,9 @@ pub struct Value {
     pub jump: f64,
     /// Standard deviation of the jump over the ensemble \[K\], interpolated (≥ 0).
     pub jump_std: f64,
+    /// Estimated discretization error of the tabulated jump \[K\], interpolated
+    /// (≥ 0; 0 when the law carries no estimate, see [`Law::error_estimated`]).
+    pub jump_error: f64,
     /// ∂ jump / ∂ p̄N \[K/Pa\].
     pub d_jump_dp: f64,
     /// ∂ jump / ∂ |h̄| \[K·m²/W\].
@@ -95,8 +98,12 @@ pub struct Law {
     pub(crate) inv_widths: [Vec<f64>; 3],
     pub(crate) jump_mean: Vec<f64>,
     pub(crate) jump_std: Vec<f64>,
-    /// Per entry: `[jump, d jump/d ln p, std, d std/d ln p]` (Steffen slopes).
-    pub(crate) nodes: Vec<[f64; 4]>,
+    /// Estimated discretization error of each entry (zeros when not estimated).
+    pub(crate) jump_error: Vec<f64>,
+    pub(crate) error_estimated: bool,
+    /// Per entry: `[jump, d jump/d ln p, std, d std/d ln p, error, d error/d ln p]`
+    /// (Steffen slopes).
+    pub(crate) nodes: Vec<[f64; 6]>,
     pub(crate) info: LawInfo,
     pub(crate) options: EvalOptions,
 }
@@ -160,10 +167,24 @@ impl Law {
     /// fastest), `n_p · n_h · n_θ` entries each, finite and ≥ 0.
     ///
     /// The options are the file defaults: `info.extrapolation`, no conductance cap.
+    /// The law carries no discretization-error estimate
+    /// ([`Law::from_grid_with_error`] gives one).
     pub fn from_grid(
         axes: Axes,
         jump_mean: Vec<f64>,
         jump_std: Vec<f64>,
+        info: LawInfo,
+    ) -> Result<Law, Error> {
+        Law::from_grid_with_error(axes, jump_mean, jump_std, None, info)
+    }
+
+    /// [`Law::from_grid`] with the estimated discretization error of each
+    /// entry \[K\] (same layout, finite, ≥ 0), or `None` when not estimated.
+    pub fn from_grid_with_error(
+        axes: Axes,
+        jump_mean: Vec<f64>,
+        jump_std: Vec<f64>,
+        jump_error: Option<Vec<f64>>,
         info: LawInfo,
     ) -> Result<Law, Error> {
         for axis in Axis::ALL {
@@ -177,9 +198,21 @@ impl Law {
             .ok_or_else(|| Error::invalid("axes", "table size overflows"))?;
         check_values("jump_mean", &jump_mean, len)?;
         check_values("jump_std", &jump_std, len)?;
-        if let Statistic::EnsembleMean { samples: 0 } = info.statistic {
+        let error_estimated = jump_error.is_some();
+        let jump_error = jump_error.unwrap_or_else(|| vec![0.0; len]);
+        check_values("jump_error", &jump_error, len)?;
+        if info.statistic.samples() == 0 {
             return Err(Error::invalid("ensemble_size", "0: expected >= 1"));
         }
+        if let Statistic::EnsembleQuantile { percent, .. } = info.statistic
+            && !(1..=99).contains(&percent)
+        {
+            return Err(Error::invalid(
+                "statistic.percent",
+                format!("{percent}: expected 1..=99"),
+            ));
+        }
+        info.extrapolation.validate()?;
         if info.statistic.samples() == 1
             && let Some(i) = jump_std.iter().position(|&s| s != 0.0)
         {
@@ -192,11 +225,11 @@ impl Law {
 
         let log_pressure: Vec<f64> = axes.pressure.iter().map(|p| p.ln()).collect();
         let (np, stride) = (axes.pressure.len(), len / axes.pressure.len());
-        let mut nodes = vec![[0.0; 4]; len];
+        let mut nodes = vec![[0.0; 6]; len];
         let mut line = vec![0.0; np];
         for offset in 0..stride {
-            for (field, slope) in [(0, 1), (2, 3)] {
-                let data = if field == 0 { &jump_mean } else { &jump_std };
+            for (data, field) in [(&jump_mean, 0), (&jump_std, 2), (&jump_error, 4)] {
+                let slope = field + 1;
                 for (i, l) in line.iter_mut().enumerate() {
                     *l = data[i * stride + offset];
                 }
@@ -222,10 +255,57 @@ impl Law {
             inv_widths,
             jump_mean,
             jump_std,
+            jump_error,
+            error_estimated,
             nodes,
             info,
             options,
         })
+    }
+
+    /// The estimated discretization error of each entry \[K\], same layout
+    /// (zeros when [`Law::error_estimated`] is false).
+    pub fn jump_error(&self) -> &[f64] {
+        &self.jump_error
+    }
+
+    /// Whether the law carries a discretization-error estimate (tables built
+    /// with `[discretization] target_error`).
+    pub fn error_estimated(&self) -> bool {
+        self.error_estimated
+    }
+
+    /// Checks the caller's material of body `"upper"` (1, slave) or
+    /// `"lower"` (2, master) against the one recorded in the law: an error
+    /// names the first property differing by more than `rel_tol`, or says
+    /// that the law records no material.
+    pub fn check_material(
+        &self,
+        body: &str,
+        material: &crate::BodyMaterial,
+        rel_tol: f64,
+    ) -> Result<(), Error> {
+        let Some(recorded) = self.info.material.as_ref() else {
+            return Err(Error::invalid(
+                "material",
+                "the law records no material (built by hand or a version-1 file)",
+            ));
+        };
+        let Some(law) = recorded.body(body) else {
+            return Err(Error::invalid(
+                "body",
+                format!("{body:?}: expected \"upper\" or \"lower\""),
+            ));
+        };
+        match law.mismatch(material, rel_tol) {
+            None => Ok(()),
+            Some((name, a, b)) => Err(Error::invalid(
+                format!("material.{body}.{name}"),
+                format!(
+                    "the law was built for {a}, the caller has {b} (relative tolerance {rel_tol})"
+                ),
+            )),
+        }
     }
 
     /// The axes.
@@ -255,6 +335,7 @@ impl Law {
 
     /// Replaces the options [`Law::eval`] uses (the caller's override of the file's policy).
     pub fn set_options(&mut self, options: EvalOptions) -> Result<(), Error> {
+        options.extrapolation.validate()?;
         if let Some(k) = options.max_conductance
             && !(k.is_finite() && k > 0.0)
         {
@@ -267,9 +348,11 @@ impl Law {
         Ok(())
     }
 
-    /// Overrides the extrapolation policy.
-    pub fn set_extrapolation(&mut self, policy: ExtrapolationPolicy) {
+    /// Overrides the extrapolation policy (`power` is allowed on pressure only).
+    pub fn set_extrapolation(&mut self, policy: ExtrapolationPolicy) -> Result<(), Error> {
+        policy.validate()?;
         self.options.extrapolation = policy;
+        Ok(())
     }
 
     /// Sets or removes the conductance cap (see [`EvalOptions::max_conductance`]).
@@ -309,6 +392,7 @@ impl Law {
             flux: wh.q_eff,
             jump,
             jump_std: corners.std.max(0.0),
+            jump_error: corners.error.max(0.0),
             d_jump_dp: corners.d_dx * wp.dx_dp,
             d_jump_dh: corners.d_dh,
             d_jump_dtheta: corners.d_dtheta,
@@ -318,6 +402,7 @@ impl Law {
         let jump_part = [
             v.jump,
             v.jump_std,
+            v.jump_error,
             v.d_jump_dp,
             v.d_jump_dh,
             v.d_jump_dtheta,
@@ -410,19 +495,38 @@ impl Law {
         Ok((wp, wh, wt))
     }
 
-    /// Jump along the pressure line at flux node `ih` and temperature node `it`:
-    /// `(value, d/d ln p, std)`.
+    /// Jump along the pressure line at flux node `ih` and temperature node `it`.
     #[inline]
-    pub(crate) fn line(&self, wp: &HermiteWeights, ih: usize, it: usize) -> (f64, f64, f64) {
+    pub(crate) fn line(&self, wp: &HermiteWeights, ih: usize, it: usize) -> LinePoint {
         let (nh, nt) = (self.axes.flux.len(), self.axes.contact_temperature.len());
         let a = &self.nodes[(wp.i0 * nh + ih) * nt + it];
         let b = &self.nodes[(wp.i1 * nh + ih) * nt + it];
         let (c, dc) = (&wp.c, &wp.dc);
-        (
-            c[0] * a[0] + c[1] * a[1] + c[2] * b[0] + c[3] * b[1],
-            dc[0] * a[0] + dc[1] * a[1] + dc[2] * b[0] + dc[3] * b[1],
-            c[0] * a[2] + c[1] * a[3] + c[2] * b[2] + c[3] * b[3],
-        )
+        if let Some(upper) = wp.power {
+            // Power continuation `f_e (p/p_e)^s`, s the log-log secant of the
+            // end cell: c[0] = ln p − ln p_e, c[1] = ln p_e − ln p_other.
+            let (e, o) = if upper { (b, a) } else { (a, b) };
+            let s = if e[0] > 0.0 && o[0] > 0.0 {
+                (e[0] / o[0]).ln() / c[1]
+            } else {
+                0.0
+            };
+            let r = (s * c[0]).exp();
+            return LinePoint {
+                value: e[0] * r,
+                d_dx: s * e[0] * r,
+                std: e[2] * r,
+                error: e[4] * r,
+            };
+        }
+        let dot =
+            |k: usize, w: &[f64; 4]| w[0] * a[k] + w[1] * a[k + 1] + w[2] * b[k] + w[3] * b[k + 1];
+        LinePoint {
+            value: dot(0, c),
+            d_dx: dot(0, dc),
+            std: dot(2, c),
+            error: dot(4, c),
+        }
     }
 
     /// Tensor-product combination of the four pressure lines around the query.
@@ -431,12 +535,13 @@ impl Law {
         let mut r = Corners::default();
         for (ih, w_h, dw_h) in [(wh.i0, wh.w0, wh.dw0), (wh.i1, wh.w1, wh.dw1)] {
             for (it, w_t, dw_t) in [(wt.i0, wt.w0, wt.dw0), (wt.i1, wt.w1, wt.dw1)] {
-                let (f, df, s) = self.line(wp, ih, it);
-                r.value += w_h * w_t * f;
-                r.d_dx += w_h * w_t * df;
-                r.d_dh += dw_h * w_t * f;
-                r.d_dtheta += w_h * dw_t * f;
-                r.std += w_h * w_t * s;
+                let l = self.line(wp, ih, it);
+                r.value += w_h * w_t * l.value;
+                r.d_dx += w_h * w_t * l.d_dx;
+                r.d_dh += dw_h * w_t * l.value;
+                r.d_dtheta += w_h * dw_t * l.value;
+                r.std += w_h * w_t * l.std;
+                r.error += w_h * w_t * l.error;
             }
         }
         r
@@ -450,4 +555,18 @@ struct Corners {
     d_dh: f64,
     d_dtheta: f64,
     std: f64,
+    error: f64,
+}
+
+/// The law on one pressure line at the query pressure.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct LinePoint {
+    /// The jump.
+    pub value: f64,
+    /// d jump / d ln p.
+    pub d_dx: f64,
+    /// Spread of the jump.
+    pub std: f64,
+    /// Discretization error of the jump.
+    pub error: f64,
 }

@@ -13,8 +13,14 @@
 //!   malformed input is an [`Error`], never a panic.
 //! - Interpolation: Steffen's monotone C1 cubic in `ln p̄N`, piecewise linear in
 //!   `|h̄|` and `θ̄c` (tensor product); exact on data linear in `(ln p̄N, |h̄|, θ̄c)`.
-//! - Extrapolation per axis: [`Extrapolation::Error`], [`Extrapolation::Clamp`]
-//!   or [`Extrapolation::Linear`], from the file, overridable ([`EvalOptions`]).
+//! - Extrapolation per axis: [`Extrapolation::Error`] (the default),
+//!   [`Extrapolation::Clamp`], [`Extrapolation::Linear`] or, along pressure,
+//!   [`Extrapolation::Power`] (`k̄c ∝ p̄N^m` from the end cells), from the
+//!   file, overridable ([`EvalOptions`]).
+//! - Each value carries the ensemble spread and, for tables built to a target
+//!   error, the estimated discretization error of the jump
+//!   ([`Value::jump_error`]); the law records the statistic it tabulates
+//!   ([`Statistic`]) and the bulk materials ([`Law::check_material`]).
 //! - [`Law::eval`] (known flux) and [`Law::eval_at_jump`] (known temperatures,
 //!   the form of an Abaqus `GAPCON` routine) neither allocate nor lock; [`Law`]
 //!   is `Send + Sync`.
@@ -49,8 +55,8 @@ mod law;
 pub use at_jump::FluxValue;
 pub use checksum::crc32;
 pub use error::{Axis, Error, EvalError};
-pub use format::{FORMAT_VERSION, HEADER_BYTES, MAGIC, MAX_FILE_BYTES};
-pub use info::{Extrapolation, ExtrapolationPolicy, LawInfo, Statistic};
+pub use format::{FORMAT_VERSION, HEADER_BYTES, MAGIC, MAX_FILE_BYTES, OLDEST_READ_VERSION};
+pub use info::{BodyMaterial, Extrapolation, ExtrapolationPolicy, LawInfo, LawMaterial, Statistic};
 pub use law::{Axes, EvalOptions, Law, Value};
 
 /// Compile-time check: a law can be shared between threads.

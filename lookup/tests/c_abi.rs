@@ -80,7 +80,7 @@ fn check_output(out: &str, dir: &Path) {
     let mut law = Law::open(dir.join("c_written.tclaw")).expect("C-written law");
     let mut policy = law.options().extrapolation;
     policy.pressure = lookup::Extrapolation::Clamp;
-    law.set_extrapolation(policy);
+    law.set_extrapolation(policy).unwrap();
     let mut values = 0;
     for line in out.lines().filter_map(|l| l.strip_prefix("value ")) {
         let f: Vec<&str> = line.split_whitespace().collect();
@@ -89,7 +89,7 @@ fn check_output(out: &str, dir: &Path) {
         match law.eval(num(0), num(1), num(2)) {
             Ok(v) => {
                 assert_eq!(status, ffi::LOOKUP_OK, "{line}");
-                let c = LookupValue::from(v);
+                let c = LookupValue::new(v, law.error_estimated());
                 let expect = [
                     c.jump,
                     c.d_jump_dp,

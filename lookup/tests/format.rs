@@ -26,6 +26,7 @@ fn small_law(np: usize, nh: usize, nt: usize, seed: u64) -> Law {
             flux: Extrapolation::Clamp,
             contact_temperature: Extrapolation::Linear,
         },
+        material: None,
         provenance: vec![
             ("generator".into(), "tcgen 0.1.0".into()),
             ("source".into(), "sweep/table.h5 (θ̄c in K)".into()),
@@ -155,7 +156,7 @@ fn content_problems_behind_a_valid_checksum_are_named() {
     for (value, at, needle) in [
         (f64::NAN, data, "pressure[0]"),
         (1e9, data, "pressure[1]"),
-        (-1.0, bytes.len() - 4 - 8 * 2 * 24, "jump_mean[0]"),
+        (-1.0, bytes.len() - 4 - 8 * 3 * 24, "jump_mean[0]"),
     ] {
         let mut b = bytes.clone();
         b[at..at + 8].copy_from_slice(&value.to_le_bytes());
@@ -167,7 +168,7 @@ fn content_problems_behind_a_valid_checksum_are_named() {
     let mut z = bytes.clone();
     z[16..20].copy_from_slice(&0u32.to_le_bytes());
     let n = z.len();
-    let body = with_len(&z, n - 8 * (3 + 2 * 24));
+    let body = with_len(&z, n - 8 * (3 + 3 * 24));
     assert!(msg(&body).contains("flux"), "{}", msg(&body));
 }
 
@@ -291,4 +292,191 @@ proptest! {
         prop_assert_eq!(back.to_bytes(), bytes);
         prop_assert_eq!(back, law);
     }
+}
+
+/// The bytes of the same law in format version 1 (no discretization-error
+/// array, no `discretization_error` / `material` keys).
+fn as_version_1(law: &Law) -> Vec<u8> {
+    assert!(!law.error_estimated());
+    let v2 = law.to_bytes();
+    let stripped = with_metadata(&v2, |t| {
+        t.replace("discretization_error = not_estimated\n", "")
+            .replace("material = unspecified\n", "")
+    });
+    let n = law.jump_mean().len();
+    let mut v1 = stripped[..stripped.len() - 4 - 8 * n].to_vec();
+    v1[8..12].copy_from_slice(&1u32.to_le_bytes());
+    v1.extend_from_slice(&[0; 4]);
+    reseal(&mut v1);
+    v1
+}
+
+/// Version-1 files (written before the error estimate and the material)
+/// are still read, and written back as version 2.
+#[test]
+fn version_1_files_are_still_read() {
+    let law = small_law(5, 3, 2, 11);
+    let back = Law::from_bytes(&as_version_1(&law)).unwrap();
+    assert_eq!(back, law);
+    assert_eq!(back.to_bytes(), law.to_bytes());
+    assert_eq!(
+        u32::from_le_bytes(law.to_bytes()[8..12].try_into().unwrap()),
+        2
+    );
+    // A version-1 file may not carry version-2 keys.
+    let bad = with_metadata(&as_version_1(&law), |t| {
+        format!("{t}material = unspecified\n")
+    });
+    assert!(
+        Law::from_bytes(&bad)
+            .unwrap_err()
+            .to_string()
+            .contains("material")
+    );
+}
+
+/// The discretization error is stored, read back, interpolated like the
+/// jump (exact on data linear in ln p), and zeros are demanded when the
+/// metadata says not estimated.
+#[test]
+fn discretization_error_round_trips_and_interpolates() {
+    let axes = Axes {
+        pressure: geomspace(1e4, 1e7, 6),
+        flux: vec![1e5, 1e6],
+        contact_temperature: vec![300.0],
+    };
+    let (mean, std) = tabulate(&axes, linear_jump);
+    let error: Vec<f64> = mean.iter().map(|m| 0.01 * m).collect();
+    let info = LawInfo {
+        statistic: Statistic::EnsembleMeanConductance { samples: 4 },
+        ..LawInfo::default()
+    };
+    let law = Law::from_grid_with_error(axes, mean, std, Some(error), info).unwrap();
+    assert!(law.error_estimated());
+    let back = Law::from_bytes(&law.to_bytes()).unwrap();
+    assert_eq!(back, law);
+    let (p, h) = (3.3e5, 4.2e5);
+    let v = back.eval(p, h, 300.0).unwrap();
+    assert!(
+        (v.jump_error - 0.01 * linear_jump(p, h, 300.0).0).abs() < 1e-10,
+        "{v:?}"
+    );
+    let w = back.eval_at_jump(p, v.jump, 300.0).unwrap();
+    assert!(
+        (w.jump_error - v.jump_error).abs() < 1e-9 * v.jump_error,
+        "{w:?}"
+    );
+    // Claiming no estimate while the array holds values is refused.
+    let lie = with_metadata(&law.to_bytes(), |t| {
+        t.replace(
+            "discretization_error = estimated",
+            "discretization_error = not_estimated",
+        )
+    });
+    assert!(
+        Law::from_bytes(&lie)
+            .unwrap_err()
+            .to_string()
+            .contains("jump_error")
+    );
+}
+
+/// `power` along pressure continues `jump = C p^s` exactly from data that
+/// follow a power law, below and above the table, with its derivative.
+#[test]
+fn power_extrapolation_is_exact_on_power_law_data() {
+    let axes = Axes {
+        pressure: geomspace(1e3, 1e6, 7),
+        flux: vec![1e5, 2e5],
+        contact_temperature: vec![300.0],
+    };
+    let f = |p: f64, h: f64, _t: f64| {
+        (
+            h * 1e-3 * (p / 1e3).powf(-0.8),
+            0.1 * h * 1e-3 * (p / 1e3).powf(-0.8),
+        )
+    };
+    let (mean, std) = tabulate(&axes, f);
+    let info = LawInfo {
+        extrapolation: ExtrapolationPolicy {
+            pressure: Extrapolation::Power,
+            ..ExtrapolationPolicy::default()
+        },
+        statistic: Statistic::EnsembleMean { samples: 3 },
+        ..LawInfo::default()
+    };
+    let law = Law::from_grid(axes, mean, std, info).unwrap();
+    for p in [1.0, 50.0, 3e6, 1e8] {
+        let v = law.eval(p, 1.5e5, 300.0).unwrap();
+        let (j, s) = f(p, 1.5e5, 300.0);
+        assert!(v.extrapolated[0]);
+        assert!((v.jump - j).abs() < 1e-9 * j, "p {p}: {} vs {j}", v.jump);
+        assert!(
+            (v.jump_std - s).abs() < 1e-9 * s,
+            "p {p}: std {}",
+            v.jump_std
+        );
+        let dj = -0.8 * j / p;
+        assert!(
+            (v.d_jump_dp - dj).abs() < 1e-8 * dj.abs(),
+            "p {p}: {} vs {dj}",
+            v.d_jump_dp
+        );
+        // The conductance follows k ∝ p^0.8.
+        assert!((v.conductance - 1.5e5 / j).abs() < 1e-9 * v.conductance);
+    }
+    assert!(law.eval(0.0, 1.5e5, 300.0).is_err());
+    // Along flux it is refused.
+    let mut bad = law.clone();
+    let e = bad
+        .set_extrapolation(ExtrapolationPolicy {
+            flux: Extrapolation::Power,
+            ..ExtrapolationPolicy::default()
+        })
+        .unwrap_err();
+    assert!(e.to_string().contains("extrapolation.flux"), "{e}");
+}
+
+/// The material is written, read back and checked property by property.
+#[test]
+fn material_is_recorded_and_checked() {
+    use lookup::{BodyMaterial, LawMaterial};
+    let mut law = small_law(3, 2, 2, 5);
+    let upper = BodyMaterial::from_values([1e6, 0.3, 1e-5, 1.0, 0.01, 293.15]);
+    let lower = BodyMaterial {
+        youngs_modulus: 2.1e11,
+        ..upper
+    };
+    let mut info = law.info().clone();
+    info.material = Some(LawMaterial { upper, lower });
+    law = Law::from_grid(
+        law.axes().clone(),
+        law.jump_mean().to_vec(),
+        law.jump_std().to_vec(),
+        info,
+    )
+    .unwrap();
+    let back = Law::from_bytes(&law.to_bytes()).unwrap();
+    assert_eq!(back.info().material, law.info().material);
+    back.check_material("upper", &upper, 0.0).unwrap();
+    back.check_material("lower", &lower, 1e-12).unwrap();
+    let e = back
+        .check_material("upper", &lower, 1e-6)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("material.upper.youngs_modulus") && e.contains("1000000"),
+        "{e}"
+    );
+    let slightly = BodyMaterial {
+        poisson_ratio: 0.3 * (1.0 + 1e-9),
+        ..upper
+    };
+    back.check_material("upper", &slightly, 1e-6).unwrap();
+    assert!(back.check_material("upper", &slightly, 0.0).is_err());
+    assert!(
+        small_law(3, 2, 2, 5)
+            .check_material("upper", &upper, 1.0)
+            .is_err()
+    );
 }

@@ -124,6 +124,34 @@ fn fortran_gapcon_examples_match_the_library() {
             "abaqus AK(3) {q:?}: {text}"
         );
     }
+    // Inside the table: no warning. Outside, under the clamp policy: the
+    // conductance of the bound, and a warning naming the query.
+    let (ok, text) = run(&ccx, &law_path, queries[0]);
+    assert!(ok && !text.contains("WARNING"), "{text}");
+    let lo = law.axes().pressure[0];
+    let outside = [lo / 10.0, 320.0, 310.0];
+    let w = law.eval_at_jump(outside[0], 10.0, 310.0).unwrap();
+    assert!(w.extrapolated[0]);
+    let (ok, text) = run(&ccx, &law_path, outside);
+    assert!(
+        ok && text.contains("*WARNING in gapcon: element 1")
+            && text.contains("outside the law table"),
+        "{text}"
+    );
+    assert!((numbers(&text, "ak1 ")[0] - w.conductance).abs() <= 1e-14 * w.conductance);
+    let _ = std::fs::remove_file(tmp.join("fort.7"));
+    let (ok, text) = run(&abq, &law_path, outside);
+    let msg = std::fs::read_to_string(tmp.join("fort.7")).unwrap_or_default();
+    assert!(
+        ok && text.contains("STDB_ABQERR -1") && msg.contains("outside the law table"),
+        "{text} / {msg}"
+    );
+    // The same law under the default policy 'error': the analysis stops
+    // with the library's out-of-range message.
+    let strict = tmp.join("strict.tclaw");
+    physical_law(Extrapolation::Error).write(&strict).unwrap();
+    let (ok, text) = run(&ccx, &strict, outside);
+    assert!(!ok && text.contains("outside"), "{text}");
     // No contact pressure: no conductance.
     let (ok, text) = run(&ccx, &law_path, [0.0, 320.0, 310.0]);
     assert!(ok && numbers(&text, "ak1 ")[0] == 0.0, "{text}");

@@ -220,7 +220,8 @@ fn extrapolation_policies_behave_as_documented() {
         }
     }
     // Caller override: clamp.
-    law.set_extrapolation(ExtrapolationPolicy::uniform(Extrapolation::Clamp));
+    law.set_extrapolation(ExtrapolationPolicy::uniform(Extrapolation::Clamp))
+        .unwrap();
     for axis in Axis::ALL {
         let i = axis as usize;
         for (q, bound) in [
@@ -249,7 +250,8 @@ fn extrapolation_policies_behave_as_documented() {
     // Zero pressure under clamp is accepted (clamped to the smallest pressure).
     assert!(law.eval(0.0, mid[1], mid[2]).is_ok());
     // Linear: collinear in (ln p, h, θ) outside, slope continuous at the bound.
-    law.set_extrapolation(ExtrapolationPolicy::uniform(Extrapolation::Linear));
+    law.set_extrapolation(ExtrapolationPolicy::uniform(Extrapolation::Linear))
+        .unwrap();
     for axis in Axis::ALL {
         let i = axis as usize;
         let coord = |q: f64| if axis == Axis::Pressure { q.ln() } else { q };

@@ -23,13 +23,23 @@ fn schema_reference_reader_agrees_with_the_writer() {
 
     let tmp = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("schema");
     std::fs::create_dir_all(&tmp).unwrap();
-    let law = law_from(table_axes(6, 3, 2), physical_jump, Extrapolation::Linear);
+    let base = law_from(table_axes(6, 3, 2), physical_jump, Extrapolation::Linear);
+    let error: Vec<f64> = base.jump_mean().iter().map(|m| 0.003 * m).collect();
+    let law = lookup::Law::from_grid_with_error(
+        base.axes().clone(),
+        base.jump_mean().to_vec(),
+        base.jump_std().to_vec(),
+        Some(error),
+        base.info().clone(),
+    )
+    .unwrap();
     let path = tmp.join("law.tclaw");
     law.write(&path).unwrap();
     let script = format!(
-        "{code}\nimport sys\nmeta, p, h, t, mean, std = read_law(sys.argv[1])\n\
+        "{code}\nimport sys\nmeta, p, h, t, mean, std, error = read_law(sys.argv[1])\n\
          print('statistic', meta['statistic'])\nprint('flux_policy', meta['extrapolation.flux'])\n\
-         for name, a in (('p', p), ('h', h), ('t', t), ('mean', mean), ('std', std)):\n\
+         print('error_key', meta['discretization_error'])\n\
+         for name, a in (('p', p), ('h', h), ('t', t), ('mean', mean), ('std', std), ('error', error)):\n\
          \x20   print(name, ' '.join(repr(x) for x in a))\n"
     );
     let out = match Command::new("python3")
@@ -63,5 +73,7 @@ fn schema_reference_reader_agrees_with_the_writer() {
     assert_eq!(line("t"), a.contact_temperature);
     assert_eq!(line("mean"), law.jump_mean());
     assert_eq!(line("std"), law.jump_std());
+    assert_eq!(line("error"), law.jump_error());
+    assert!(text.contains("error_key estimated"), "{text}");
     assert!(text.contains("statistic ensemble_mean") && text.contains("flux_policy linear"));
 }

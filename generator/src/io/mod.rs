@@ -10,6 +10,8 @@ pub mod provenance;
 pub mod surface_csv;
 pub mod table;
 
-pub use law::{law_from_table, write_law};
+pub use law::{
+    LawOptions, LawStatistic, apply_extrapolation, law_from_table, law_from_table_with, write_law,
+};
 pub use netcdf::{read_table, table_to_bytes, write_table};
 pub use table::{PointRecord, PointStatus, PointValues, SampleSurfaces, Table, TableInfo};

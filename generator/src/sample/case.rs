@@ -342,6 +342,31 @@ fn positive(key: &str, v: f64, unit: &str) -> Result<()> {
     }
 }
 
+/// The materials of the (upper, lower) bodies from a `[material]` table:
+/// Table I defaults, then its keys, then its `upper` / `lower` sub-tables.
+pub fn body_materials(material: &toml::Table) -> Result<(Material, Material)> {
+    let mut base = material.clone();
+    let upper = base.remove("upper");
+    let lower = base.remove("lower");
+    let resolve = |over: Option<toml::Value>, key: &str| -> Result<Material> {
+        let mut t = base.clone();
+        match over {
+            Some(toml::Value::Table(o)) => t.extend(o),
+            Some(v) => return Err(Error::invalid(key, v, "a table of material keys")),
+            None => {}
+        }
+        let m: Material = toml::Value::Table(t)
+            .try_into()
+            .map_err(|e: toml::de::Error| Error::Config(format!("[{key}]: {e}")))?;
+        m.validate(key)?;
+        Ok(m)
+    };
+    Ok((
+        resolve(upper, "material.upper")?,
+        resolve(lower, "material.lower")?,
+    ))
+}
+
 impl Case {
     /// Parses TOML text; `base_dir` resolves relative paths.
     pub fn from_toml(text: &str, base_dir: &Path) -> Result<Self> {
@@ -367,26 +392,7 @@ impl Case {
     /// The materials of the (upper, lower) bodies: Table I defaults, then
     /// `[material]`, then `[material.upper]` / `[material.lower]`.
     pub fn materials(&self) -> Result<(Material, Material)> {
-        let mut base = self.material.clone();
-        let upper = base.remove("upper");
-        let lower = base.remove("lower");
-        let resolve = |over: Option<toml::Value>, key: &str| -> Result<Material> {
-            let mut t = base.clone();
-            match over {
-                Some(toml::Value::Table(o)) => t.extend(o),
-                Some(v) => return Err(Error::invalid(key, v, "a table of material keys")),
-                None => {}
-            }
-            let m: Material = toml::Value::Table(t)
-                .try_into()
-                .map_err(|e: toml::de::Error| Error::Config(format!("[{key}]: {e}")))?;
-            m.validate(key)?;
-            Ok(m)
-        };
-        Ok((
-            resolve(upper, "material.upper")?,
-            resolve(lower, "material.lower")?,
-        ))
+        body_materials(&self.material)
     }
 
     /// Checks that both bodies conduct (`k(θ) = k0 + k1 (θ − θ0) > 0`) at

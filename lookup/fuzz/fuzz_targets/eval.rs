@@ -45,7 +45,11 @@ fuzz_target!(|data: [u8; 36]| {
     let (p, h, t, k) = (f(0), f(8), f(16), f(24));
     let options = EvalOptions {
         extrapolation: ExtrapolationPolicy {
-            pressure: policy(data[32]),
+            pressure: if data[32] % 4 == 3 {
+                Extrapolation::Power
+            } else {
+                policy(data[32])
+            },
             flux: policy(data[33]),
             contact_temperature: policy(data[34]),
         },

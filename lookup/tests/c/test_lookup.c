@@ -99,7 +99,7 @@ int main(int argc, char **argv) {
     CHECK(close_to(v.d_jump_dh, 2e-5, 1e-9), "d_jump_dh %.17g", v.d_jump_dh);
     CHECK(close_to(v.d_jump_dtheta, 0.1, 1e-9), "d_jump_dtheta %.17g", v.d_jump_dtheta);
     CHECK(close_to(v.conductance, h / v.jump, 1e-14), "k %.17g", v.conductance);
-    CHECK(v.flags == 0u, "flags %u", v.flags);
+    CHECK(v.flags == LOOKUP_FLAG_NO_ERROR_ESTIMATE && v.jump_error == 0.0, "flags %u", v.flags);
 
     /* Write, reopen, same values. */
     CHECK(lookup_law_write(law, path) == LOOKUP_OK, "write");
@@ -130,7 +130,26 @@ int main(int argc, char **argv) {
     CHECK(lookup_law_set_extrapolation(back, LOOKUP_AXIS_PRESSURE, LOOKUP_EXTRAPOLATE_CLAMP) ==
               LOOKUP_OK, "set clamp");
     CHECK(lookup_law_eval(back, 1e9, h, t, &w) == LOOKUP_OK, "clamped eval");
-    CHECK(w.flags == LOOKUP_FLAG_EXTRAPOLATED_PRESSURE && w.d_jump_dp == 0.0, "flags %u", w.flags);
+    CHECK(w.flags == (LOOKUP_FLAG_EXTRAPOLATED_PRESSURE | LOOKUP_FLAG_NO_ERROR_ESTIMATE) &&
+              w.d_jump_dp == 0.0, "flags %u", w.flags);
+    /* Power continuation: pressure only. */
+    CHECK(lookup_law_set_extrapolation(back, LOOKUP_AXIS_PRESSURE, LOOKUP_EXTRAPOLATE_POWER) ==
+              LOOKUP_OK, "set power");
+    CHECK(lookup_law_eval(back, 1e9, h, t, &w) == LOOKUP_OK && w.jump > 0.0, "power eval");
+    CHECK(lookup_law_set_extrapolation(back, LOOKUP_AXIS_FLUX, LOOKUP_EXTRAPOLATE_POWER) ==
+              LOOKUP_ERR_INVALID_ARGUMENT, "power on flux");
+    CHECK(lookup_law_set_extrapolation(back, LOOKUP_AXIS_PRESSURE, LOOKUP_EXTRAPOLATE_CLAMP) ==
+              LOOKUP_OK, "back to clamp");
+    /* A law built from a grid records no material. */
+    {
+        const double steel[6] = {2.1e11, 0.3, 1.2e-5, 45.0, 0.0, 293.15};
+        CHECK(lookup_law_check_material(back, LOOKUP_BODY_UPPER, steel, 1e-6) ==
+                  LOOKUP_ERR_MATERIAL_MISMATCH, "no material recorded");
+        lookup_last_error(msg, sizeof msg);
+        CHECK(strstr(msg, "no material") != NULL, "message '%s'", msg);
+        CHECK(lookup_law_check_material(back, 3, steel, 1e-6) == LOOKUP_ERR_INVALID_ARGUMENT,
+              "bad body");
+    }
     CHECK(lookup_law_set_extrapolation(back, LOOKUP_AXIS_ALL, 9) == LOOKUP_ERR_INVALID_ARGUMENT,
           "bad policy");
     CHECK(lookup_law_set_max_conductance(back, -1.0) == LOOKUP_ERR_INVALID_ARGUMENT, "bad cap");

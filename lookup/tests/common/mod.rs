@@ -67,6 +67,7 @@ pub fn law_from(axes: Axes, f: impl Fn(f64, f64, f64) -> (f64, f64), policy: Ext
     let info = LawInfo {
         statistic: Statistic::EnsembleMean { samples: 12 },
         extrapolation: ExtrapolationPolicy::uniform(policy),
+        material: None,
         provenance: vec![("generator".into(), "lookup tests".into())],
     };
     Law::from_grid(axes, mean, std, info).expect("valid synthetic law")
