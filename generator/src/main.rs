@@ -47,6 +47,17 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         vtk: Option<std::path::PathBuf>,
     },
+    /// Check a case or sweep file without solving: validate it, print the
+    /// resolved configuration with every default, the unknowns and the
+    /// estimated memory (exit 2 if invalid or if it cannot fit).
+    Check {
+        /// A case file (tcgen solve) or a sweep file (tcgen sweep, with [sweep]).
+        file: std::path::PathBuf,
+        /// Concurrent solves to budget memory for (a sweep's --threads; default:
+        /// 1 for a case, RAYON_NUM_THREADS or the cores for a sweep).
+        #[arg(long)]
+        threads: Option<usize>,
+    },
     /// Build a table of the macroscopic jump over pressure × flux × contact temperature × samples.
     ///
     /// Exit status: 0 done; 1 a point failed (unless --allow-failures) or an error; 2 a bad
@@ -204,6 +215,12 @@ fn sweep(a: SweepArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    // Before any computing: the mesh fits in memory on every thread.
+    let threads = a.threads.unwrap_or_else(rayon::current_num_threads);
+    if let Err(e) = tcgen::solve::resources::check(&cfg.case, threads) {
+        eprintln!("error: {e}");
+        return ExitCode::from(2);
+    }
     // Before any computing: the table is written to a file.
     if a.output.is_dir() {
         eprintln!(
@@ -464,6 +481,85 @@ fn law(
     }
 }
 
+fn check(file: &std::path::Path, threads: Option<usize>) -> ExitCode {
+    use tcgen::solve::resources::{self, format_bytes};
+    let text = match std::fs::read_to_string(file) {
+        Ok(t) => t,
+        Err(e) => {
+            eprintln!("error: {}: {e}", file.display());
+            return ExitCode::from(2);
+        }
+    };
+    let is_sweep = toml::from_str::<toml::Table>(&text).is_ok_and(|t| t.contains_key("sweep"));
+    let loaded = if is_sweep {
+        tcgen::sweep::SweepConfig::read(file).map(|c| {
+            let n = threads.unwrap_or_else(rayon::current_num_threads);
+            (c.case.clone(), c.resolved.clone(), n, "sweep")
+        })
+    } else {
+        tcgen::sample::Case::read(file).and_then(|c| {
+            let resolved = tcgen::sweep::config::resolved_case(&c)?;
+            Ok((c, resolved, threads.unwrap_or(1), "case"))
+        })
+    };
+    let (case, resolved, concurrent, kind) = match loaded {
+        Ok(x) => x,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    println!(
+        "# {}: a valid {kind} file. Resolved configuration (every default explicit):\n",
+        file.display()
+    );
+    println!("{resolved}");
+    let e = resources::estimate(&case);
+    let d = &case.discretization;
+    println!(
+        "# unknowns: {} (upper body {} and lower body {} control points x 3 fields, contact multipliers)",
+        e.unknowns, e.control_points[0], e.control_points[1]
+    );
+    println!(
+        "# estimated memory: {} per solve{}",
+        format_bytes(e.memory),
+        if concurrent > 1 {
+            format!(
+                ", {} for {concurrent} concurrent solves",
+                format_bytes(e.memory * concurrent as f64)
+            )
+        } else {
+            String::new()
+        }
+    );
+    if d.target_error.is_some() {
+        println!(
+            "# adaptive (target_error {}): meshes grow up to max_dofs = {} unknowns, about {} per solve at that size",
+            d.target_error.unwrap_or_default(),
+            d.max_dofs,
+            format_bytes(resources::memory_for(d.max_dofs, d.degree, 2))
+        );
+    }
+    match resources::memory_limit() {
+        Ok(Some(limit)) => println!("# memory available: {}", format_bytes(limit)),
+        Ok(None) => println!("# memory available: unknown (set TCGEN_MEMORY_LIMIT)"),
+        Err(err) => {
+            eprintln!("error: {err}");
+            return ExitCode::from(2);
+        }
+    }
+    match resources::check(&case, concurrent) {
+        Ok(_) => {
+            println!("# ok");
+            ExitCode::SUCCESS
+        }
+        Err(err) => {
+            eprintln!("error: {err}");
+            ExitCode::from(2)
+        }
+    }
+}
+
 fn verify(
     json: bool,
     filter: Option<String>,
@@ -600,6 +696,10 @@ fn solve(path: &std::path::Path, json: bool, vtk: Option<std::path::PathBuf>) ->
             return ExitCode::from(2);
         }
     };
+    if let Err(e) = tcgen::solve::resources::check(&case, 1) {
+        eprintln!("error: {e}");
+        return ExitCode::from(2);
+    }
     if let Some(dir) = &vtk
         && dir.exists()
         && !dir.is_dir()
@@ -743,6 +843,7 @@ fn main() -> ExitCode {
             points,
             body,
         } => surface(&case, &output, sample, seed, points, body),
+        Command::Check { file, threads } => check(&file, threads),
         Command::Law {
             table,
             output,

@@ -145,3 +145,73 @@ fn output_paths_of_the_wrong_kind_are_refused_before_computing() {
     // Nothing was solved: no table header, no point.
     assert!(solve.stdout.is_empty() && sweep.stdout.is_empty());
 }
+
+/// Issue 14 item 5: `tcgen check` validates and prints the resolved case
+/// with the unknowns and the memory estimate; a mesh that cannot fit is
+/// refused up front (exit 2, the keys and the estimate named) by `check`,
+/// `solve` and `sweep`, never an allocation failure.
+#[test]
+fn check_prints_the_resolved_case_and_refuses_what_cannot_fit() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let tcgen = || Command::new(env!("CARGO_BIN_EXE_tcgen"));
+    let o = tcgen()
+        .arg("check")
+        .arg(root.join("tables/sinusoid_on_flat.toml"))
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success(),
+        "{out}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    for needle in [
+        "a valid case file",
+        "bulk_points = 4",
+        "mechanical_penalty = 1.0",
+        "[material.lower]",
+        "youngs_modulus",
+        "# unknowns: ",
+        "# estimated memory: ",
+        "# ok",
+    ] {
+        assert!(out.contains(needle), "{needle:?} not in {out}");
+    }
+    let dir = scratch("check-resources");
+    let huge = dir.join("huge.toml");
+    std::fs::write(
+        &huge,
+        "[surface.upper]\nkind = \"flat\"\n[surface.lower]\nkind = \"flat\"\n\
+         [discretization]\nelements_upper = [4096, 4096]\nelements_lower = [4096, 4096]\n",
+    )
+    .unwrap();
+    for args in [vec!["check"], vec!["solve"]] {
+        let o = tcgen().args(&args).arg(&huge).output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(
+            err.contains("discretization.elements_upper") && err.contains("unknowns need about"),
+            "{err}"
+        );
+    }
+    // A small case against a small limit, and a sweep budgets its threads.
+    let o = tcgen()
+        .env("TCGEN_MEMORY_LIMIT", "1M")
+        .arg("solve")
+        .arg(root.join("tables/sinusoid_on_flat.toml"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        o.status.code() == Some(2) && err.contains("(TCGEN_MEMORY_LIMIT)"),
+        "{err}"
+    );
+    let o = tcgen()
+        .env("TCGEN_MEMORY_LIMIT", "banana")
+        .args(["check"])
+        .arg(root.join("tables/sinusoid_on_flat.toml"))
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("TCGEN_MEMORY_LIMIT"));
+}

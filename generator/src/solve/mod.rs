@@ -1,9 +1,11 @@
-//! Degrees of freedom, boundary conditions, linear solvers and Newton's method.
+//! Degrees of freedom, boundary conditions, linear solvers, Newton's method,
+//! and the up-front resource estimate.
 pub mod dofs;
 pub mod linear;
 pub mod model;
 pub mod newton;
 pub mod ordering;
+pub mod resources;
 pub mod scales;
 
 pub use dofs::{Dof, DofMap, DofMapBuilder};

@@ -361,6 +361,36 @@ impl SweepConfig {
     }
 }
 
+/// The case as parsed, every key explicit: defaults, the materials per body,
+/// and the automatic values (`bulk_points`, contact penalties) resolved.
+fn resolved_case_table(case: &Case) -> Result<toml::Table> {
+    let mut case = case.clone();
+    // Automatic values made explicit (the values the solver uses): the bulk
+    // Gauss points p + 2, the normal penalty factor 1 (εN = E/h). The
+    // thermal penalty of the constraint model stays automatic: its default
+    // 10 k0/h depends on the slave element size (schemas/case.md).
+    let d = &mut case.discretization;
+    d.bulk_points = Some(
+        d.bulk_points
+            .unwrap_or(crate::quadrature::default_bulk_points(d.degree)),
+    );
+    case.contact.mechanical_penalty = Some(case.contact.mechanical_penalty.unwrap_or(1.0));
+    let mut v = toml::Table::try_from(&case).map_err(config_err)?;
+    // Every material key explicit, per body (defaults included).
+    let (upper, lower) = case.materials()?;
+    let mut material = toml::Table::new();
+    for (body, m) in [("upper", &upper), ("lower", &lower)] {
+        material.insert(body.into(), toml::Value::try_from(m).map_err(config_err)?);
+    }
+    v.insert("material".into(), toml::Value::Table(material));
+    Ok(v)
+}
+
+/// The resolved case as TOML (`tcgen check`): every key explicit.
+pub fn resolved_case(case: &Case) -> Result<String> {
+    toml::to_string(&resolved_case_table(case)?).map_err(config_err)
+}
+
 /// The canonical TOML of a configuration: the case as parsed (defaults
 /// explicit) without `[load]`, and `[sweep]` with the axes as lists.
 fn resolve(
@@ -370,15 +400,8 @@ fn resolve(
     fluxes: &[f64],
     contact_temperatures: &[f64],
 ) -> Result<String> {
-    let mut v = toml::Table::try_from(case).map_err(config_err)?;
+    let mut v = resolved_case_table(case)?;
     v.remove("load");
-    // Every material key explicit, per body (defaults included).
-    let (upper, lower) = case.materials()?;
-    let mut material = toml::Table::new();
-    for (body, m) in [("upper", &upper), ("lower", &lower)] {
-        material.insert(body.into(), toml::Value::try_from(m).map_err(config_err)?);
-    }
-    v.insert("material".into(), toml::Value::Table(material));
     let s = SweepSection {
         pressures: AxisSpec::List(pressures.to_vec()),
         fluxes: AxisSpec::List(fluxes.to_vec()),
