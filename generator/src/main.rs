@@ -341,10 +341,7 @@ fn surface(
     use tcgen::io::surface_csv::{Bodies, export_surfaces, write_surface_csv};
     use tcgen::surface::SurfaceSpec;
     let result = (|| -> tcgen::Result<()> {
-        let text = std::fs::read_to_string(path).map_err(|e| tcgen::Error::Io {
-            path: path.display().to_string(),
-            source: e,
-        })?;
+        let text = tcgen::error::read_text(path)?;
         let is_sweep = toml::from_str::<toml::Table>(&text)
             .map(|t| t.contains_key("sweep"))
             .unwrap_or(false);

@@ -224,12 +224,38 @@ pub fn try_rough_block(
     degree_vertical: usize,
     n_elements_vertical: usize,
 ) -> Result<NurbsPatch> {
+    let base: Vec<[f64; 2]> = fit.x.iter().map(|&x| [x, 0.0]).collect();
+    blend_block(
+        vec![fit.knots.clone()],
+        &base,
+        &fit.heights,
+        [z_shift, z_flat],
+        face,
+        degree_vertical,
+        n_elements_vertical,
+    )
+}
+
+/// The block between rough control heights (plus `shift_flat[0]`) over the
+/// horizontal control positions `base` and the flat face `z = shift_flat[1]`:
+/// the linear blend at the vertical Greville abscissae (the vertical is the
+/// last parametric direction and the last coordinate of the point; in 2D the
+/// points are `[x, z, 0]`, in 3D `[x, y, z]`).
+fn blend_block(
+    horizontal: Vec<KnotVector>,
+    base: &[[f64; 2]],
+    heights: &[f64],
+    [z_shift, z_flat]: [f64; 2],
+    face: RoughFace,
+    degree_vertical: usize,
+    n_elements_vertical: usize,
+) -> Result<NurbsPatch> {
     if degree_vertical == 0 || n_elements_vertical == 0 {
         return Err(Error::Geometry(format!(
             "rough block: need degree_vertical >= 1 and n_elements_vertical >= 1, got {degree_vertical}, {n_elements_vertical}"
         )));
     }
-    let rough: Vec<f64> = fit.heights.iter().map(|h| h + z_shift).collect();
+    let rough: Vec<f64> = heights.iter().map(|h| h + z_shift).collect();
     let folded = match face {
         RoughFace::Top => rough.iter().position(|&z| z <= z_flat),
         RoughFace::Bottom => rough.iter().position(|&z| z >= z_flat),
@@ -247,23 +273,205 @@ pub fn try_rough_block(
     }
     let vertical = KnotVector::open_uniform(degree_vertical, n_elements_vertical, 0.0, 1.0);
     let v = vertical.greville();
-    let nx = fit.x.len();
-    let mut points = Vec::with_capacity(nx * v.len());
+    let three_d = horizontal.len() == 2;
+    let mut points = Vec::with_capacity(base.len() * v.len());
     for &vj in &v {
-        for i in 0..nx {
+        for (b, &z_rough) in base.iter().zip(&rough) {
             let (bottom, top) = match face {
-                RoughFace::Top => (z_flat, rough[i]),
-                RoughFace::Bottom => (rough[i], z_flat),
+                RoughFace::Top => (z_flat, z_rough),
+                RoughFace::Bottom => (z_rough, z_flat),
             };
-            points.push([fit.x[i], bottom + vj * (top - bottom), 0.0]);
+            let z = bottom + vj * (top - bottom);
+            points.push(if three_d {
+                [b[0], b[1], z]
+            } else {
+                [b[0], z, 0.0]
+            });
         }
     }
     let weights = vec![1.0; points.len()];
-    NurbsPatch::new(vec![fit.knots.clone(), vertical], points, weights)
+    let mut knots = horizontal;
+    knots.push(vertical);
+    NurbsPatch::new(knots, points, weights)
+}
+
+/// A fitted bivariate B-spline graph over the cell `[0, W]²` (3D samples):
+/// `x = W u`, `y = W v`, `z(u, v) = Σ_ij N_i(u) N_j(v) h_ij`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ArealFit {
+    /// Open uniform knot vectors on `[0, 1]` along x and y.
+    pub knots: [KnotVector; 2],
+    /// Control abscissae `W ū_i` (Greville).
+    pub x: Vec<f64>,
+    /// Control ordinates `W v̄_j` (Greville).
+    pub y: Vec<f64>,
+    /// Control heights `h_ij`, `i` (x) fastest.
+    pub heights: Vec<f64>,
+    /// Largest height error `|z − f|` on the dense sample (8 × 8 points per element).
+    pub max_error: f64,
+    /// RMS height error on the same sample.
+    pub rms_error: f64,
+}
+
+/// Points per element and direction of the 3D error sample.
+const AREAL_ERROR_SAMPLES: usize = 8;
+
+impl ArealFit {
+    /// The cell width `W`.
+    pub fn width(&self) -> f64 {
+        self.x[self.x.len() - 1]
+    }
+
+    /// The fitted height at `(x, y)` in the cell (clamped).
+    pub fn height_at(&self, x: f64, y: f64) -> f64 {
+        let w = self.width();
+        let [kx, ky] = &self.knots;
+        let (u, v) = ((x / w).clamp(0.0, 1.0), (y / w).clamp(0.0, 1.0));
+        let (su, sv) = (kx.find_span(u), ky.find_span(v));
+        let (px, py) = (kx.degree(), ky.degree());
+        let (nu, nv) = (basis_ders(kx, su, u, 0), basis_ders(ky, sv, v, 0));
+        let nx = self.x.len();
+        let mut z = 0.0;
+        for b in 0..=py {
+            for a in 0..=px {
+                z += nu[0][a] * nv[0][b] * self.heights[(sv - py + b) * nx + su - px + a];
+            }
+        }
+        z
+    }
+}
+
+/// Solves the Greville collocation system of `knots` for each right-hand
+/// side (interpolation: end values exact).
+fn collocate(knots: &KnotVector, rhs: &mut [Vec<f64>]) -> Result<()> {
+    let p = knots.degree();
+    let greville = knots.greville();
+    let mut band = Banded::new(greville.len(), p);
+    for (i, &g) in greville.iter().enumerate() {
+        let span = knots.find_span(g);
+        let ders = basis_ders(knots, span, g, 0);
+        for j in 0..=p {
+            band.add(i, span - p + j, ders[0][j]);
+        }
+    }
+    for r in rhs.iter_mut() {
+        *r = band.clone().solve(std::mem::take(r))?;
+    }
+    Ok(())
+}
+
+/// Fits `z = f(x, y)` on the cell `[0, W]²` by a tensor-product B-spline graph
+/// of `degree` with `n_elements = [n_x, n_y]` uniform elements, interpolating
+/// at the Greville points (collocation, separable: along x, then along y;
+/// the edges interpolate `f` on the cell's boundary, and opposite edges are
+/// set bitwise equal where they agree to 1e-12, so a periodic `f` gives a
+/// periodic fit). The error is measured on a dense sample.
+pub fn fit_height_map(
+    f: &dyn Fn(f64, f64) -> f64,
+    width: f64,
+    degree: usize,
+    n_elements: [usize; 2],
+) -> Result<ArealFit> {
+    if !(width.is_finite() && width > 0.0) || degree == 0 || n_elements.contains(&0) {
+        return Err(Error::Geometry(format!(
+            "areal fit: need width > 0, degree >= 1 and elements >= 1, got {width}, {degree}, {n_elements:?}"
+        )));
+    }
+    let knots = n_elements.map(|n| KnotVector::open_uniform(degree, n, 0.0, 1.0));
+    let [gx, gy] = [knots[0].greville(), knots[1].greville()];
+    let (nx, ny) = (gx.len(), gy.len());
+    // Along x for every Greville row y_j, then along y for every column.
+    let mut rows: Vec<Vec<f64>> = gy
+        .iter()
+        .map(|&v| gx.iter().map(|&u| f(width * u, width * v)).collect())
+        .collect();
+    collocate(&knots[0], &mut rows)?;
+    let mut columns: Vec<Vec<f64>> = (0..nx)
+        .map(|i| rows.iter().map(|r| r[i]).collect())
+        .collect();
+    collocate(&knots[1], &mut columns)?;
+    let mut heights = vec![0.0; nx * ny];
+    for (i, c) in columns.iter().enumerate() {
+        for (j, h) in c.iter().enumerate() {
+            heights[j * nx + i] = *h;
+        }
+    }
+    let close =
+        |a: f64, b: f64| (a - b).abs() <= 1e-12 * a.abs().max(b.abs()).max(f64::MIN_POSITIVE);
+    let edges_agree = (0..ny).all(|j| close(heights[j * nx], heights[j * nx + nx - 1]));
+    if edges_agree {
+        for j in 0..ny {
+            let m = 0.5 * (heights[j * nx] + heights[j * nx + nx - 1]);
+            heights[j * nx] = m;
+            heights[j * nx + nx - 1] = m;
+        }
+    }
+    if (0..nx).all(|i| close(heights[i], heights[(ny - 1) * nx + i])) {
+        for i in 0..nx {
+            let m = 0.5 * (heights[i] + heights[(ny - 1) * nx + i]);
+            heights[i] = m;
+            heights[(ny - 1) * nx + i] = m;
+        }
+    }
+    let mut fit = ArealFit {
+        knots,
+        x: gx.iter().map(|g| width * g).collect(),
+        y: gy.iter().map(|g| width * g).collect(),
+        heights,
+        max_error: 0.0,
+        rms_error: 0.0,
+    };
+    let (mut max_error, mut sum_sq) = (0.0f64, 0.0);
+    let (sx, sy) = (
+        n_elements[0] * AREAL_ERROR_SAMPLES,
+        n_elements[1] * AREAL_ERROR_SAMPLES,
+    );
+    for j in 0..=sy {
+        for i in 0..=sx {
+            let (x, y) = (width * i as f64 / sx as f64, width * j as f64 / sy as f64);
+            let e = fit.height_at(x, y) - f(x, y);
+            max_error = max_error.max(e.abs());
+            sum_sq += e * e;
+        }
+    }
+    fit.max_error = max_error;
+    fit.rms_error = (sum_sq / ((sx + 1) * (sy + 1)) as f64).sqrt();
+    Ok(fit)
+}
+
+/// The 3D block between the fitted rough surface (shifted by `z_shift`) and
+/// the flat face `z = z_flat`: parametric directions x, y (the fit's knots)
+/// and the vertical (open uniform, `degree_vertical`, `n_elements_vertical`),
+/// the map `z(u, v, w) = z_bottom(u, v) + w (z_top(u, v) − z_bottom(u, v))`
+/// exactly (the 3D counterpart of [`try_rough_block`]); the rough face is at
+/// `(dir 2, face.side())`. Errors as [`try_rough_block`].
+pub fn try_rough_volume(
+    fit: &ArealFit,
+    z_shift: f64,
+    z_flat: f64,
+    face: RoughFace,
+    degree_vertical: usize,
+    n_elements_vertical: usize,
+) -> Result<NurbsPatch> {
+    let base: Vec<[f64; 2]> = fit
+        .y
+        .iter()
+        .flat_map(|&y| fit.x.iter().map(move |&x| [x, y]))
+        .collect();
+    blend_block(
+        fit.knots.to_vec(),
+        &base,
+        &fit.heights,
+        [z_shift, z_flat],
+        face,
+        degree_vertical,
+        n_elements_vertical,
+    )
 }
 
 /// A square banded matrix (half bandwidth `k`) solved by Gaussian elimination without pivoting,
 /// stable for the totally positive collocation and the SPD mass matrices used here.
+#[derive(Clone)]
 struct Banded {
     n: usize,
     k: usize,

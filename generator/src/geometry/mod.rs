@@ -21,7 +21,8 @@ pub mod refine;
 pub mod shapes;
 
 pub use fit::{
-    FitMethod, RoughFace, SurfaceFit, fit_height_function, rough_block, try_rough_block,
+    ArealFit, FitMethod, RoughFace, SurfaceFit, fit_height_function, fit_height_map, rough_block,
+    try_rough_block, try_rough_volume,
 };
 pub use hierarchical::{Cell, HierarchicalMesh, ThbPatch};
 pub use knots::KnotVector;

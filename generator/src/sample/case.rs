@@ -378,10 +378,7 @@ impl Case {
 
     /// Reads and validates a case file.
     pub fn read(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
-            path: path.display().to_string(),
-            source: e,
-        })?;
+        let text = crate::error::read_text(path)?;
         let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
         Case::from_toml(&text, &dir).map_err(|e| match e {
             Error::Config(m) => Error::Config(format!("{}: {m}", path.display())),

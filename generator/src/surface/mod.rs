@@ -8,9 +8,11 @@ use serde::{Deserialize, Serialize};
 
 use crate::{Error, Result};
 
+pub mod areal;
 pub mod profile;
 pub mod random;
 
+pub use areal::{ArealSpec, ArealSurface, HeightMap, RandomArealSurface, SinusoidPattern};
 pub use profile::Profile;
 pub use random::{RandomSpec, RandomSurface, SpectrumKind};
 

@@ -51,10 +51,7 @@ impl Profile {
 
     /// Reads a CSV file `x,z` (m); an optional header line is skipped.
     pub fn read(path: &Path, width: f64, key: &str) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
-            path: path.display().to_string(),
-            source: e,
-        })?;
+        let text = crate::error::read_text(path)?;
         let mut xs = Vec::new();
         let mut zs = Vec::new();
         for (ln, line) in text.lines().enumerate() {

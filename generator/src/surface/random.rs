@@ -259,27 +259,36 @@ impl RandomSpec {
 
     /// The discrete spectrum `w_k`, `k = 1..=K` (unnormalized).
     pub fn spectrum_weights(&self, width: f64) -> Vec<f64> {
-        let k_max = self.mode_count(width);
-        (1..=k_max)
-            .map(|k| {
-                let q = std::f64::consts::TAU * k as f64 / width;
-                match self.spectrum {
-                    SpectrumKind::Gaussian => {
-                        let l = self.correlation_length.unwrap_or(width);
-                        libm::exp(-(q * l) * (q * l) / 4.0)
-                    }
-                    SpectrumKind::SelfAffine => {
-                        let qr = std::f64::consts::TAU / self.rolloff_wavelength.unwrap_or(width);
-                        let h = self.hurst.unwrap_or(0.5);
-                        if q <= qr * (1.0 + 1e-12) {
-                            1.0
-                        } else {
-                            libm::pow(q / qr, -(1.0 + 2.0 * h))
-                        }
-                    }
-                }
-            })
+        (1..=self.mode_count(width))
+            .map(|k| self.spectrum_weight(width, std::f64::consts::TAU * k as f64 / width, false))
             .collect()
+    }
+
+    /// The spectrum weight at wave number `q` (unnormalized): the profile
+    /// spectrum (module documentation), or with `areal` the isotropic areal
+    /// spectrum of a 3D surface (`q^−2(1+H)` for self-affine; the same
+    /// Gaussian form), see [`crate::surface::areal`].
+    pub fn spectrum_weight(&self, width: f64, q: f64, areal: bool) -> f64 {
+        match self.spectrum {
+            SpectrumKind::Gaussian => {
+                let l = self.correlation_length.unwrap_or(width);
+                libm::exp(-(q * l) * (q * l) / 4.0)
+            }
+            SpectrumKind::SelfAffine => {
+                let qr = std::f64::consts::TAU / self.rolloff_wavelength.unwrap_or(width);
+                let h = self.hurst.unwrap_or(0.5);
+                let exponent = if areal {
+                    -2.0 * (1.0 + h)
+                } else {
+                    -(1.0 + 2.0 * h)
+                };
+                if q <= qr * (1.0 + 1e-12) {
+                    1.0
+                } else {
+                    libm::pow(q / qr, exponent)
+                }
+            }
+        }
     }
 
     /// The expected autocorrelation `E[f(x) f(x+τ)] = rms² Σ w_k cos(q_k τ) / Σ w_k`.
@@ -294,34 +303,38 @@ impl RandomSpec {
         self.rms * self.rms * c / total
     }
 
-    /// Draws the surface of this spec for the body `key` names (the spec must be valid).
-    pub fn generate(&self, key: &str, width: f64) -> RandomSurface {
-        let seed = self.seed.unwrap_or(0);
-        let sample = self.sample.unwrap_or(0);
-        let stream = self.stream_for(key);
-        let weights = self.spectrum_weights(width);
-        let mut rng = StreamRng::new(seed, sample, stream);
+    /// The Fourier coefficients `(c_m, d_m) = σ_s √w_m (a_m, b_m)` of modes with
+    /// spectrum weights `weights`, the normal pairs drawn in order from the
+    /// stream `(seed, sample, stream)`, scaled to the ensemble RMS (or to the
+    /// sample's exact RMS with `exact_rms`). Shared by profiles and areal surfaces.
+    pub fn draw_coefficients(&self, stream: u32, weights: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        let mut rng = StreamRng::new(self.seed.unwrap_or(0), self.sample.unwrap_or(0), stream);
         let mut cos = Vec::with_capacity(weights.len());
         let mut sin = Vec::with_capacity(weights.len());
-        for w in &weights {
+        for w in weights {
             let (a, b) = rng.normal_pair();
             let s = w.sqrt();
             cos.push(s * a);
             sin.push(s * b);
         }
         let scale = if self.exact_rms {
-            let mean_square: f64 = cos
-                .iter()
-                .zip(&sin)
-                .map(|(c, d)| 0.5 * (c * c + d * d))
-                .sum();
-            self.rms / mean_square.sqrt()
+            self.rms / parseval_rms(&cos, &sin)
         } else {
             self.rms / weights.iter().sum::<f64>().sqrt()
         };
         for v in cos.iter_mut().chain(sin.iter_mut()) {
             *v *= scale;
         }
+        (cos, sin)
+    }
+
+    /// Draws the surface of this spec for the body `key` names (the spec must be valid).
+    pub fn generate(&self, key: &str, width: f64) -> RandomSurface {
+        let seed = self.seed.unwrap_or(0);
+        let sample = self.sample.unwrap_or(0);
+        let stream = self.stream_for(key);
+        let weights = self.spectrum_weights(width);
+        let (cos, sin) = self.draw_coefficients(stream, &weights);
         RandomSurface {
             width,
             cos,
@@ -400,13 +413,17 @@ impl RandomSurface {
 
     /// RMS over one period, `√(Σ (c_k² + d_k²)/2)`.
     pub fn rms(&self) -> f64 {
-        self.cos
-            .iter()
-            .zip(&self.sin)
-            .map(|(c, d)| 0.5 * (c * c + d * d))
-            .sum::<f64>()
-            .sqrt()
+        parseval_rms(&self.cos, &self.sin)
     }
+}
+
+/// RMS over one period of `Σ c_m cos(·) + d_m sin(·)`: `√(Σ (c_m² + d_m²)/2)` (Parseval).
+pub fn parseval_rms(cos: &[f64], sin: &[f64]) -> f64 {
+    cos.iter()
+        .zip(sin)
+        .map(|(c, d)| 0.5 * (c * c + d * d))
+        .sum::<f64>()
+        .sqrt()
 }
 
 impl Surface for RandomSurface {

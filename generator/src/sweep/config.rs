@@ -233,10 +233,7 @@ fn config_err(e: impl std::fmt::Display) -> Error {
 impl SweepConfig {
     /// Reads and validates a sweep file.
     pub fn read(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
-            path: path.display().to_string(),
-            source: e,
-        })?;
+        let text = crate::error::read_text(path)?;
         let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
         let mut c = SweepConfig::from_toml(&text, &dir).map_err(|e| match e {
             Error::Config(m) => Error::Config(format!("{}: {m}", path.display())),
