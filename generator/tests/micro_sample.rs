@@ -116,37 +116,6 @@ fn multi_flux_solve_matches_single_flux_solves() {
     assert!((ratio - 1.0).abs() < 1e-10, "{ratio}");
 }
 
-/// `--vtk` writes well-formed legacy VTK files for both bodies and the interface.
-#[test]
-fn vtk_output_is_well_formed() {
-    let mut c = case("two-phase", "lower");
-    c.load.pressures = vec![2.0e4];
-    let dir = std::env::temp_dir().join(format!("tcgen-vtk-{}", std::process::id()));
-    solve_case(&c, Some(dir.clone()), |_| {}).unwrap();
-    for body in ["lower", "upper"] {
-        let t = std::fs::read_to_string(dir.join(format!("p000_{body}.vtk"))).unwrap();
-        let dims: Vec<usize> = t
-            .lines()
-            .find(|l| l.starts_with("DIMENSIONS"))
-            .unwrap()
-            .split_whitespace()
-            .skip(1)
-            .map(|v| v.parse().unwrap())
-            .collect();
-        let n = dims.iter().product::<usize>();
-        assert!(
-            t.contains(&format!("POINTS {n} double")) && t.contains(&format!("POINT_DATA {n}"))
-        );
-        for field in ["displacement", "temperature", "cauchy_stress", "heat_flux"] {
-            assert!(t.contains(field), "{field} missing in {body}");
-        }
-        assert!(!t.contains("NaN") && !t.contains("inf"));
-    }
-    let t = std::fs::read_to_string(dir.join("p000_interface.vtk")).unwrap();
-    assert!(t.contains("contact_pressure") && t.contains("interface_heat_flux"));
-    std::fs::remove_dir_all(&dir).ok();
-}
-
 /// `tcgen solve` prints one row per pressure; with a sliding top face
 /// (`top_lateral = "free"`) the table has the `offset/m` column, and its
 /// values are the JSON `lateral_offset`.

@@ -2,6 +2,8 @@
 //! macroscopic jump by the requested identification, with everything spec §9
 //! asks a micro-solve to report.
 
+use std::sync::Mutex;
+
 use serde::Serialize;
 
 use crate::bulk::Coupling;
@@ -14,6 +16,7 @@ use crate::sample::micro::{
     Bodies, InterfaceMeasures, LOWER, SampleGeometry, ThermalBc, UPPER, build_model_on,
     case_bodies, case_geometry, measure, place_at_first_touch, slave_body,
 };
+use crate::sample::vtk::{Fields, PointInfo, VtkSeries};
 use crate::solve::{Model, Newton, NonlinearProblem};
 use crate::{Error, Result};
 
@@ -109,9 +112,22 @@ pub struct PathSolver<'a> {
     pub geometry: SampleGeometry,
     /// The bodies of the model (SI units; the model holds them scaled).
     pub bodies: Bodies,
-    vtk: Option<std::path::PathBuf>,
-    points: usize,
+    /// Whether to sample the fields of every solved point ([`Fields`]).
+    capture: bool,
+    /// The fields of the last solved point, when capturing.
+    fields: Option<Fields>,
     history: Vec<f64>,
+}
+
+/// What one thermal phase gives.
+struct ThermalPhase {
+    abp: AbpTemperatures,
+    /// `θ(I)` (K).
+    theta_s: f64,
+    iterations: usize,
+    interface: InterfaceMeasures,
+    /// The fields of the mechanical phase it ran on and its own, when capturing.
+    fields: Option<Fields>,
 }
 
 impl<'a> PathSolver<'a> {
@@ -164,8 +180,8 @@ impl<'a> PathSolver<'a> {
             alpha,
             geometry,
             bodies,
-            vtk: None,
-            points: 0,
+            capture: false,
+            fields: None,
             history: Vec::new(),
         })
     }
@@ -204,9 +220,17 @@ impl<'a> PathSolver<'a> {
         &self.history
     }
 
-    /// Writes ParaView files of every solved point into `dir` (`p000_*.vtk`, ...).
-    pub fn set_vtk(&mut self, dir: std::path::PathBuf) {
-        self.vtk = Some(dir);
+    /// Samples the fields of every solved point for output
+    /// ([`PathSolver::take_fields`]): each phase's fields from its own
+    /// state ([`crate::sample::vtk`]).
+    pub fn capture_fields(&mut self, on: bool) {
+        self.capture = on;
+    }
+
+    /// The fields of the last solved point (with several fluxes, of the
+    /// last flux), if captured and converged.
+    pub fn take_fields(&mut self) -> Option<Fields> {
+        self.fields.take()
     }
 
     fn slave_abp(&self, abp: &AbpTemperatures) -> f64 {
@@ -335,10 +359,10 @@ impl<'a> PathSolver<'a> {
         it += self.drive([pressure, flux], [pressure, flux])?;
         self.last_pressure = pressure;
         let ts = self.model.face_mean_temperature(sface.0, 1, sface.1);
-        if let Some(dir) = &self.vtk {
-            crate::sample::vtk::write_model(&self.model, dir, &format!("p{:03}", self.points))?;
+        if self.capture {
+            // One monolithic state: every field from it.
+            self.fields = Some(Fields::sample(&self.model));
         }
-        self.points += 1;
         let interface = measure(&self.model, self.alpha)?;
         Ok(self.result(
             pressure,
@@ -423,6 +447,7 @@ impl<'a> PathSolver<'a> {
                 break;
             }
             let mut next = PathSolver::with_bodies(case, self.geometry.clone(), bodies)?;
+            next.capture = self.capture;
             transfer_state(src, &mut next.model);
             next.last_pressure = pressure;
             let solved = match next.solve_fluxes_on_mesh(pressure, fluxes, true) {
@@ -496,6 +521,10 @@ impl<'a> PathSolver<'a> {
                 }
             }
         }
+        // The fields of the mesh of `best`.
+        if let Some(f) = fine.as_mut() {
+            self.fields = f.fields.take();
+        }
         for (i, r) in best.iter_mut().enumerate() {
             r.jump_error = estimate.as_ref().map(|e| e[i]);
             r.error_target_met = Some(met);
@@ -542,20 +571,23 @@ impl<'a> PathSolver<'a> {
         self.last_pressure = pressure;
         let base = self.model.save();
         // First thermal phase at unit flux.
-        let (abp1, ts1, it1, iface1) = self.thermal_phase(pressure, [theta_c, theta_c], 1.0)?;
+        let first = self.thermal_phase(pressure, [theta_c, theta_c], 1.0)?;
         let mut out = Vec::with_capacity(fluxes.len());
+        self.fields = None;
         for &flux in fluxes {
             let scale = |t: f64| theta_c + flux * (t - theta_c);
             let mut abp = AbpTemperatures {
-                upper: scale(abp1.upper),
-                lower: scale(abp1.lower),
+                upper: scale(first.abp.upper),
+                lower: scale(first.abp.lower),
             };
-            let mut ts = scale(ts1);
+            let mut ts = scale(first.theta_s);
             let mut jump = ts - self.slave_abp(&abp);
             self.history = vec![jump];
-            let mut iface = iface1;
+            let mut iface = first.interface;
             iface.max_active_jump *= flux;
-            let mut iterations = base_it + it1;
+            // The unit-flux thermal fields scale the same way.
+            let mut fields = first.fields.as_ref().map(|f| f.at_flux(theta_c, flux));
+            let mut iterations = base_it + first.iterations;
             let mut k = 1;
             let mut failure = None;
             if self_consistent {
@@ -569,20 +601,23 @@ impl<'a> PathSolver<'a> {
                     } else {
                         [theta_c, t_slave]
                     };
-                    let step = (|| -> Result<(AbpTemperatures, f64, usize, InterfaceMeasures)> {
+                    let step = (|| -> Result<ThermalPhase> {
                         self.model.set_frozen_temperature(UPPER, temps[0]);
                         self.model.set_frozen_temperature(LOWER, temps[1]);
                         let it = self.drive([pressure, 0.0], [pressure, 0.0])?;
-                        let (a, t, it2, m) = self.thermal_phase(pressure, temps, flux)?;
-                        Ok((a, t, it + it2, m))
+                        let mut phase = self.thermal_phase(pressure, temps, flux)?;
+                        phase.iterations += it;
+                        Ok(phase)
                     })();
                     match step {
-                        Ok((a, t, it, m)) => {
-                            iterations += it;
-                            let new_jump = t - self.slave_abp(&a);
+                        Ok(phase) => {
+                            iterations += phase.iterations;
+                            let new_jump = phase.theta_s - self.slave_abp(&phase.abp);
                             self.history.push(new_jump);
                             let change = (new_jump - jump).abs();
-                            (abp, ts, jump, iface) = (a, t, new_jump, m);
+                            (abp, ts, jump, iface) =
+                                (phase.abp, phase.theta_s, new_jump, phase.interface);
+                            fields = phase.fields;
                             if change
                                 <= case.homogenization.tolerance * jump.abs().max(1e-12 * theta_c)
                             {
@@ -607,6 +642,11 @@ impl<'a> PathSolver<'a> {
                 self.model.set_frozen_temperature(UPPER, theta_c);
                 self.model.set_frozen_temperature(LOWER, theta_c);
             }
+            if failure.is_some() {
+                fields = None;
+            }
+            // The fields of the last flux.
+            self.fields = fields;
             let r = match failure {
                 None => self.result(
                     pressure,
@@ -627,20 +667,15 @@ impl<'a> PathSolver<'a> {
             };
             out.push(r);
         }
-        self.points += 1;
         Ok(out)
     }
 
     /// The thermal phase on the frozen configuration (Sect. 3.1 (ii)) with
     /// conductivities frozen at `temps` (upper, lower) and flux `flux`;
     /// restores the mechanical phase afterwards. Returns the ABP, `θ(I)`, the
-    /// iterations and the interface measurements.
-    fn thermal_phase(
-        &mut self,
-        pressure: f64,
-        temps: [f64; 2],
-        flux: f64,
-    ) -> Result<(AbpTemperatures, f64, usize, InterfaceMeasures)> {
+    /// iterations, the interface measurements and, when capturing, the
+    /// fields: each phase's from its own state ([`Fields::two_phase`]).
+    fn thermal_phase(&mut self, pressure: f64, temps: [f64; 2], flux: f64) -> Result<ThermalPhase> {
         let case = self.case;
         let (mface, sface) = (self.master_face(), self.slave_face());
         let abp = accompanying_bar(
@@ -653,6 +688,9 @@ impl<'a> PathSolver<'a> {
             AbpProperties::Frozen(temps),
         )?;
         let saved = self.model.save();
+        // The mechanical phase's equilibrium: its displacements at the
+        // temperatures it was solved with.
+        let mechanical = self.capture.then(|| Fields::sample(&self.model));
         self.model.set_coupling(Coupling::Thermal)?;
         self.model.freeze_body_conductivity(UPPER, temps[0]);
         self.model.freeze_body_conductivity(LOWER, temps[1]);
@@ -665,14 +703,22 @@ impl<'a> PathSolver<'a> {
         let result = self.drive([pressure, 0.0], [pressure, flux]);
         let ts = self.model.face_mean_temperature(sface.0, 1, sface.1);
         let interface = measure(&self.model, self.alpha)?;
-        if let (Some(dir), Ok(_)) = (&self.vtk, &result) {
-            crate::sample::vtk::write_model(&self.model, dir, &format!("p{:03}", self.points))?;
-        }
+        // The thermal phase's own state (with its frozen conductivities).
+        let fields = match (mechanical, &result) {
+            (Some(m), Ok(_)) => Some(Fields::two_phase(m, Fields::sample(&self.model))),
+            _ => None,
+        };
         // Back to the mechanical phase.
         self.model.restore_materials();
         self.model.restore(&saved);
         self.model.set_coupling(Coupling::Mechanical)?;
-        Ok((abp, ts, result?, interface))
+        Ok(ThermalPhase {
+            abp,
+            theta_s: ts,
+            iterations: result?,
+            interface,
+            fields,
+        })
     }
 }
 
@@ -699,32 +745,40 @@ pub fn two_level_estimate(d_k: f64, previous: &[f64]) -> f64 {
 
 /// Solves every pressure of a case in order (one path); a failed point is
 /// reported with its reason and ends the path (the later points are reported
-/// as not reached). `progress` sees every result as it comes.
+/// as not reached). `progress` sees every result as it comes. With `vtk`,
+/// the fields of every converged point go to that directory
+/// ([`crate::sample::vtk`]: `pKKK_*.vtu` and the collection `series.pvd`).
 pub fn solve_case(
     case: &Case,
     vtk: Option<std::path::PathBuf>,
     mut progress: impl FnMut(&PointResult),
 ) -> Result<Vec<PointResult>> {
     let mut solver = PathSolver::new(case)?;
-    if let Some(dir) = vtk {
-        solver.set_vtk(dir);
-    }
+    let series = vtk
+        .map(|dir| VtkSeries::create(&dir, &case.load.pressures))
+        .transpose()?
+        .map(Mutex::new);
+    let series = series.as_ref();
+    solver.capture_fields(series.is_some());
     if let Some(target) = case.discretization.target_error
         && matches!(
             case.homogenization.method,
             Method::TwoPhase | Method::TwoPhaseSelfConsistent
         )
     {
-        let out = solve_path_adaptive(&mut solver, target)?;
+        let out = solve_path_adaptive(&mut solver, target, series)?;
         out.iter().for_each(&mut progress);
         return Ok(out);
     }
     let mut out = Vec::new();
     let mut failed = None;
-    for &p in &case.load.pressures {
+    for (k, &p) in case.load.pressures.iter().enumerate() {
         let r = match &failed {
             Some(reason) => PointResult::failed(case, p, format!("not reached: {reason}")),
-            None => match solver.solve_pressure(p) {
+            None => match solver
+                .solve_pressure(p)
+                .and_then(|r| write_point(series, case, k, r, solver.take_fields()))
+            {
                 Ok(r) => r,
                 Err(e) => {
                     failed = Some(format!("failed at {p:e} Pa"));
@@ -738,22 +792,54 @@ pub fn solve_case(
     Ok(out)
 }
 
+/// Writes the fields of point `k` of the path (if converged and captured)
+/// into `series` (if any).
+fn write_point(
+    series: Option<&Mutex<VtkSeries>>,
+    case: &Case,
+    k: usize,
+    r: PointResult,
+    fields: Option<Fields>,
+) -> Result<PointResult> {
+    if let (Some(s), Some(f), true) = (series, fields, r.converged) {
+        let info = PointInfo {
+            index: k,
+            pressure: r.pressure,
+            flux: r.flux,
+            contact_temperature: r.contact_temperature,
+            method: case.homogenization.method,
+        };
+        s.lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .write_point(&info, &f)?;
+    }
+    Ok(r)
+}
+
 /// The adaptive path of [`solve_case`]: the case mesh along the whole path
 /// first (continuation, plain two-phase), then every pressure refined from
 /// its saved coarse state independently, in parallel (rayon). The results
-/// equal those of [`PathSolver::solve_pressure`] at each pressure.
-fn solve_path_adaptive(solver: &mut PathSolver<'_>, target: f64) -> Result<Vec<PointResult>> {
+/// equal those of [`PathSolver::solve_pressure`] at each pressure; the
+/// fields written to `series` are those of the final mesh of each.
+fn solve_path_adaptive(
+    solver: &mut PathSolver<'_>,
+    target: f64,
+    series: Option<&Mutex<VtkSeries>>,
+) -> Result<Vec<PointResult>> {
     use rayon::prelude::*;
     let case = solver.case;
     let fluxes = [case.load.flux];
-    // (pressure, Ok((coarse results, saved state)) or the failure reason)
+    // (index, pressure, Ok((coarse results, saved state, coarse fields)) or
+    // the failure reason)
     let mut coarse = Vec::new();
     let mut failed: Option<String> = None;
-    for &p in &case.load.pressures {
+    for (k, &p) in case.load.pressures.iter().enumerate() {
         let item = match &failed {
             Some(reason) => Err(format!("not reached: {reason}")),
             None => match solver.solve_fluxes_on_mesh(p, &fluxes, true) {
-                Ok(r) if r.iter().all(|r| r.converged) => Ok((r, solver.model.save())),
+                Ok(r) if r.iter().all(|r| r.converged) => {
+                    Ok((r, solver.model.save(), solver.take_fields()))
+                }
                 Ok(mut r) => {
                     failed = Some(format!("failed at {p:e} Pa"));
                     Err(match r.pop().map(|r| r.status) {
@@ -767,18 +853,22 @@ fn solve_path_adaptive(solver: &mut PathSolver<'_>, target: f64) -> Result<Vec<P
                 }
             },
         };
-        coarse.push((p, item));
+        coarse.push((k, p, item));
     }
-    let (geometry, bodies) = (&solver.geometry, &solver.bodies);
+    let (geometry, bodies, capture) = (&solver.geometry, &solver.bodies, solver.capture);
+    type Coarse = (Vec<PointResult>, Vec<f64>, Option<Fields>);
     Ok(coarse
         .into_par_iter()
-        .map(|(p, item)| {
-            let refine = |(r, saved): (Vec<PointResult>, Vec<f64>)| -> Result<PointResult> {
+        .map(|(k, p, item)| {
+            let refine = |(r, saved, fields): Coarse| -> Result<PointResult> {
                 let mut base = PathSolver::with_bodies(case, geometry.clone(), bodies.clone())?;
                 base.model.restore(&saved);
                 base.last_pressure = p;
-                let mut out = base.adapt(p, &fluxes, r, target)?;
-                Ok(out.pop().expect("one flux"))
+                base.capture = capture;
+                // The coarse fields stand unless a finer mesh is solved.
+                base.fields = fields;
+                let r = base.adapt(p, &fluxes, r, target)?.pop().expect("one flux");
+                write_point(series, case, k, r, base.take_fields())
             };
             match item
                 .map_err(|m| m.to_string())

@@ -1,0 +1,298 @@
+//! `tcgen solve --vtk DIR` (issue 14 item 3), checked on the written files:
+//! the Cauchy stress of each body balances the applied pressure and the heat
+//! flux the applied flux, for the two-phase methods (each phase's fields
+//! from its own state) as for the coupled one; every file carries the
+//! applied loads; `series.pvd` lists every file.
+
+use std::path::{Path, PathBuf};
+
+use tcgen::homogenize::{PointResult, solve_case};
+use tcgen::sample::Case;
+use tcgen::sample::case::Method;
+use tcgen::sample::vtk::VtkSeries;
+
+/// The sinusoid-on-flat sample of `tables/sinusoid_on_flat.toml` on the
+/// coarse mesh of `micro_sample.rs` (12 × 6 and 10 × 5 elements).
+fn case(method: Method, pressures: &[f64]) -> Case {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tables/sinusoid_on_flat.toml");
+    let mut c = Case::read(&path).unwrap();
+    c.discretization.elements_upper = [12, 6];
+    c.discretization.elements_lower = [10, 5];
+    c.homogenization.method = method;
+    c.load.pressures = pressures.to_vec();
+    c
+}
+
+fn out_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("tcgen-vtk-{name}-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    dir
+}
+
+fn solve_into(c: &Case, dir: &Path) -> Vec<PointResult> {
+    let r = solve_case(c, Some(dir.to_path_buf()), |_| {}).unwrap();
+    assert!(r.iter().all(|p| p.converged), "{r:?}");
+    r
+}
+
+/// A written `.vtu` file, read back by its text.
+struct Vtu(String);
+
+impl Vtu {
+    fn read(path: &Path) -> Vtu {
+        Vtu(std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display())))
+    }
+
+    /// The values of the `DataArray` named `name`.
+    fn array(&self, name: &str) -> Vec<f64> {
+        let tag = format!("Name=\"{name}\"");
+        let at = self
+            .0
+            .find(&tag)
+            .unwrap_or_else(|| panic!("no array {name}"));
+        let start = at + self.0[at..].find('>').unwrap() + 1;
+        let end = start + self.0[start..].find("</DataArray>").unwrap();
+        self.0[start..end]
+            .split_whitespace()
+            .map(|v| v.parse().unwrap_or_else(|e| panic!("{name}: {v}: {e}")))
+            .collect()
+    }
+
+    /// The single value of a field-data array.
+    fn field(&self, name: &str) -> f64 {
+        let v = self.array(name);
+        assert_eq!(v.len(), 1, "{name}");
+        v[0]
+    }
+
+    fn count(&self, attribute: &str) -> usize {
+        let tag = format!("{attribute}=\"");
+        let at = self.0.find(&tag).unwrap() + tag.len();
+        self.0[at..at + self.0[at..].find('"').unwrap()]
+            .parse()
+            .unwrap()
+    }
+}
+
+/// The trapezoidal mean over the deformed `x` of component `c` (of `n`)
+/// of point array `name` along row `row` of a body's sample grid.
+fn row_mean(v: &Vtu, name: &str, n: usize, c: usize, row: usize) -> f64 {
+    let dims = v.array("grid_dimensions");
+    let nx = dims[0] as usize;
+    let (x, f) = (v.array("Points"), v.array(name));
+    let xs: Vec<f64> = (0..nx).map(|i| x[3 * (row * nx + i)]).collect();
+    let fs: Vec<f64> = (0..nx).map(|i| f[n * (row * nx + i) + c]).collect();
+    let integral: f64 = (1..nx)
+        .map(|i| 0.5 * (fs[i] + fs[i - 1]) * (xs[i] - xs[i - 1]))
+        .sum();
+    integral / (xs[nx - 1] - xs[0])
+}
+
+/// The external faces: the upper body's top row, the lower body's bottom row.
+fn external_row(v: &Vtu, body: &str) -> usize {
+    if body == "upper" {
+        v.array("grid_dimensions")[1] as usize - 1
+    } else {
+        0
+    }
+}
+
+/// The balances of point `k` as written, relative errors against the
+/// applied loads: for each body, of the mean `σyy` over its external face
+/// against `−p̄N` and of the mean `q_y` there against `−|h̄|`; for the
+/// interface, of the contact force `Σ ⟨N^I⟩ pN^I` against `p̄N` times the
+/// width and of the heat flow `Σ ⟨N^I⟩ h0^I` (thermal lumped areas) against
+/// `−|h̄|` times the width (into the slave, the upper body). Checks the
+/// field data against the result on the way.
+fn balances(dir: &Path, k: usize, r: &PointResult, width: f64) -> Vec<(&'static str, f64, f64)> {
+    let mut out = Vec::new();
+    for body in ["lower", "upper", "interface"] {
+        let v = Vtu::read(&dir.join(format!("p{k:03}_{body}.vtu")));
+        assert_eq!(v.field("applied_pressure"), r.pressure);
+        assert_eq!(v.field("applied_flux"), r.flux);
+        assert_eq!(v.field("contact_temperature"), r.contact_temperature);
+        assert_eq!(v.field("point_index"), k as f64);
+        assert!(!v.0.contains("NaN") && !v.0.contains("inf"), "{body}");
+        let (stress, flux) = if body == "interface" {
+            let sum = |f: &str, a: &str| -> f64 {
+                v.array(f).iter().zip(v.array(a)).map(|(f, a)| f * a).sum()
+            };
+            (
+                sum("contact_pressure", "lumped_area") / width,
+                sum("interface_heat_flux", "thermal_lumped_area") / width,
+            )
+        } else {
+            let row = external_row(&v, body);
+            (
+                -row_mean(&v, "cauchy_stress", 9, 4, row),
+                row_mean(&v, "heat_flux", 3, 1, row),
+            )
+        };
+        out.push((
+            body,
+            (stress - r.pressure).abs() / r.pressure,
+            (flux + r.flux).abs() / r.flux,
+        ));
+    }
+    out
+}
+
+/// Asserts the balances of every point, printing them; `contact_force` is
+/// the tolerance of the interface's contact force.
+fn assert_balanced(dir: &Path, r: &[PointResult], width: f64, label: &str, contact_force: f64) {
+    for (k, r) in r.iter().enumerate() {
+        for (part, stress, flux) in balances(dir, k, r, width) {
+            println!(
+                "{label} {:e} Pa {part}: force error {stress:.2e}, heat error {flux:.2e}",
+                r.pressure
+            );
+            let (ts, tf) = if part == "interface" {
+                (contact_force, 1.0e-6)
+            } else {
+                (2.0e-3, 5.0e-4)
+            };
+            assert!(
+                stress < ts,
+                "{label} {part} point {k}: force error {stress:e}"
+            );
+            assert!(flux < tf, "{label} {part} point {k}: heat error {flux:e}");
+        }
+    }
+}
+
+/// The written fields balance the loads for every method, at 1 kPa (2.7 %
+/// contact) and 10 kPa. The tolerances of the bodies are the discretization
+/// error of the pointwise stress and flux on this coarse mesh (Galerkin
+/// balances the load weakly): measured at most 7.4e-4 for `σyy` (upper
+/// body, two-phase, 10 kPa) and 7.1e-5 for `q_y` (coupled); trapezoid and
+/// Simpson sums of the samples agree to 4e-5, so the sampling is not the
+/// limit. The interface's contact force is the normal force on the
+/// reference surface (measured up to 8.8e-4 off the vertical load in the
+/// two-phase methods); its heat flow balances to the Newton tolerance
+/// (measured up to 3.8e-8). Before the fix the self-consistent method wrote
+/// `σyy` 16 % (upper) and 18 % (lower) off at 1 kPa, 2.4 % and 2.7 % at
+/// 10 kPa (the stress of the mechanical displacement at the thermal phase's
+/// temperatures), and the two-phase method the thermal state of a unit
+/// flux (`q_y` = −1 W/m² for 1 MW/m²).
+#[test]
+fn written_fields_balance_the_applied_loads_for_every_method() {
+    for (method, label) in [
+        (Method::TwoPhase, "two-phase"),
+        (Method::TwoPhaseSelfConsistent, "two-phase-self-consistent"),
+        (Method::Coupled, "coupled"),
+    ] {
+        let dir = out_dir(label);
+        let c = case(method, &[1.0e3, 1.0e4]);
+        let r = solve_into(&c, &dir);
+        // Coupled: the contact pressures alone carry the load only to 1.1e-2
+        // at 10 kPa (measured; 8.8e-4 in the two-phase methods). A likely
+        // cause, not part of this check: the coupled contact residual adds
+        // h0^I ∂⟨N^I ϑc⟩/∂u to the displacement rows (contact/mortar.rs).
+        let contact_force = if method == Method::Coupled {
+            2.0e-2
+        } else {
+            3.0e-3
+        };
+        assert_balanced(&dir, &r, c.sample.width, label, contact_force);
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}
+
+/// The files are well formed: counts of points, cells and tuples agree; the
+/// body cells are the quadrilaterals of the sample grid, the interface a
+/// polyline of the slave control points.
+#[test]
+fn files_are_well_formed_unstructured_grids() {
+    let dir = out_dir("form");
+    let c = case(Method::TwoPhaseSelfConsistent, &[1.0e4]);
+    solve_into(&c, &dir);
+    for body in ["lower", "upper"] {
+        let v = Vtu::read(&dir.join(format!("p000_{body}.vtu")));
+        let dims = v.array("grid_dimensions");
+        let (nx, ny) = (dims[0] as usize, dims[1] as usize);
+        assert_eq!(v.count("NumberOfPoints"), nx * ny);
+        assert_eq!(v.count("NumberOfCells"), (nx - 1) * (ny - 1));
+        assert_eq!(v.array("Points").len(), 3 * nx * ny);
+        for (name, n) in [
+            ("displacement", 3),
+            ("cauchy_stress", 9),
+            ("temperature", 1),
+            ("heat_flux", 3),
+        ] {
+            assert_eq!(v.array(name).len(), n * nx * ny, "{body} {name}");
+        }
+        assert!(v.array("types").iter().all(|&t| t == 9.0));
+        let nx = nx as f64;
+        assert_eq!(v.array("connectivity")[..4], [0.0, 1.0, nx + 1.0, nx]);
+    }
+    let v = Vtu::read(&dir.join("p000_interface.vtu"));
+    let n = v.count("NumberOfPoints");
+    assert_eq!(v.count("NumberOfCells"), n - 1);
+    assert!(v.array("types").iter().all(|&t| t == 3.0));
+    for name in [
+        "contact_pressure",
+        "weighted_gap",
+        "lumped_area",
+        "interface_heat_flux",
+        "thermal_lumped_area",
+    ] {
+        assert_eq!(v.array(name).len(), n, "{name}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `series.pvd` lists the three files of every point, the pressure as the
+/// time step, and it exists (empty) before the first point.
+#[test]
+fn collection_lists_every_file_with_the_pressure_as_time() {
+    let dir = out_dir("pvd");
+    let series = VtkSeries::create(&dir, &[1.0e3, 1.0e4]).unwrap();
+    let empty = std::fs::read_to_string(series.collection_path()).unwrap();
+    assert!(empty.contains("<Collection>\n</Collection>"), "{empty}");
+    let c = case(Method::TwoPhase, &[1.0e3, 1.0e4]);
+    solve_into(&c, &dir);
+    let pvd = std::fs::read_to_string(dir.join("series.pvd")).unwrap();
+    assert!(pvd.contains("<VTKFile type=\"Collection\""));
+    let sets: Vec<(f64, String)> = pvd
+        .lines()
+        .filter(|l| l.starts_with("<DataSet"))
+        .map(|l| {
+            let attr = |a: &str| {
+                let s = l.find(&format!("{a}=\"")).unwrap() + a.len() + 2;
+                l[s..s + l[s..].find('"').unwrap()].to_string()
+            };
+            (attr("timestep").parse().unwrap(), attr("file"))
+        })
+        .collect();
+    let expected: Vec<(f64, String)> = [(0, 1.0e3), (1, 1.0e4)]
+        .iter()
+        .flat_map(|&(k, p)| {
+            ["lower", "upper", "interface"].map(|b| (p, format!("p{k:03}_{b}.vtu")))
+        })
+        .collect();
+    assert_eq!(sets, expected);
+    for (_, f) in &sets {
+        assert!(dir.join(f).is_file(), "{f}");
+    }
+    let mut files: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    files.sort();
+    assert_eq!(files.len(), 7, "no temporary files left: {files:?}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// With adaptive refinement the files are those of the final mesh and
+/// balance as well.
+#[test]
+fn adaptive_path_writes_balanced_fields() {
+    let dir = out_dir("adaptive");
+    let mut c = case(Method::TwoPhaseSelfConsistent, &[1.0e3]);
+    c.discretization.target_error = Some(0.05);
+    c.discretization.max_levels = 2;
+    let r = solve_into(&c, &dir);
+    assert!(r[0].levels[1] > 0, "{:?}", r[0].levels);
+    assert_balanced(&dir, &r, c.sample.width, "adaptive", 3.0e-3);
+    std::fs::remove_dir_all(&dir).ok();
+}
