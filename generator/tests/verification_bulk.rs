@@ -48,3 +48,21 @@ fn accompanying_bar_matches_closed_form() {
 fn results_do_not_depend_on_the_unit_system() {
     run("unit_invariance");
 }
+
+/// 3D (issue 12 item 2): k(θ) conduction on the warped cube, L2 rate p+1,
+/// H1 rate p, p = 1..3 (rates of the two finest meshes, within 0.25).
+#[test]
+fn manufactured_conduction_converges_at_optimal_rates_in_3d() {
+    run("mms3d_conduction");
+}
+
+/// 3D finite-strain thermoelasticity on the warped cube, p = 1, 2 (p = 3,
+/// 50 s with the direct solver, under TCGEN_LONG_TESTS=1).
+#[test]
+fn manufactured_thermoelasticity_converges_at_optimal_rates_in_3d() {
+    run("mms3d_thermoelastic_p1");
+    run("mms3d_thermoelastic_p2");
+    if std::env::var("TCGEN_LONG_TESTS").is_ok_and(|v| v == "1") {
+        run("mms3d_thermoelastic_p3");
+    }
+}

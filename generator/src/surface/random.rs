@@ -109,12 +109,8 @@ pub struct RandomSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stream: Option<u32>,
     /// Rescale every sample to exactly `rms` (default false: `rms` is the ensemble RMS).
-    #[serde(default, skip_serializing_if = "is_false")]
+    #[serde(default)]
     pub exact_rms: bool,
-}
-
-fn is_false(b: &bool) -> bool {
-    !*b
 }
 
 impl RandomSpec {

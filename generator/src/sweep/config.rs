@@ -372,6 +372,20 @@ fn resolved_case_table(case: &Case) -> Result<toml::Table> {
             .unwrap_or(crate::quadrature::default_bulk_points(d.degree)),
     );
     case.contact.mechanical_penalty = Some(case.contact.mechanical_penalty.unwrap_or(1.0));
+    // Random surfaces: the stream of each body and the self-affine roll-off
+    // (default the width) explicit; `exact_rms` is always written.
+    let width = case.sample.width;
+    for (key, spec) in [
+        ("surface.upper", &mut case.surface.upper),
+        ("surface.lower", &mut case.surface.lower),
+    ] {
+        if let crate::surface::SurfaceSpec::Random(r) = spec {
+            r.stream = Some(r.stream_for(key));
+            if r.spectrum == crate::surface::SpectrumKind::SelfAffine {
+                r.rolloff_wavelength = Some(r.rolloff_wavelength.unwrap_or(width));
+            }
+        }
+    }
     let mut v = toml::Table::try_from(&case).map_err(config_err)?;
     // Every material key explicit, per body (defaults included).
     let (upper, lower) = case.materials()?;
@@ -459,6 +473,19 @@ seed = 5
                 assert!(m.get(key).is_some(), "material.{body}.{key}");
             }
         }
+        // Automatic values explicit: quadrature, penalty factor, the random
+        // surface's stream and exact_rms.
+        assert_eq!(
+            resolved["discretization"]["bulk_points"].as_integer(),
+            Some(4)
+        );
+        assert_eq!(
+            resolved["contact"]["mechanical_penalty"].as_float(),
+            Some(1.0)
+        );
+        let up = &resolved["surface"]["upper"];
+        assert_eq!(up["stream"].as_integer(), Some(0));
+        assert_eq!(up["exact_rms"].as_bool(), Some(false));
         let p = c.path_case(1, 1, 0);
         assert_eq!(p.load.flux, 1e6);
         match p.surface.upper {
