@@ -1,13 +1,18 @@
 #!/usr/bin/env bash
 # System tools the test suite uses beyond the Rust toolchain, gcc and Python:
 #   gfortran — compiles the Fortran GAPCON examples (lookup/examples/*.f)
-#              against the C ABI (lookup/tests/fortran_examples.rs).
+#              against the C ABI (lookup/tests/fortran_examples.rs);
+#   ccx      — the CalculiX solver (Debian package calculix-ccx), which runs
+#              the *GAP CONDUCTANCE export end to end
+#              (generator/tests/calculix_end_to_end.rs).
 # Installed with apt-get when missing and the machine allows it (root or
 # passwordless sudo). Where it cannot be installed the script says so; the
-# Fortran test then reports that it did not compile the examples.
+# Fortran test then reports that it did not compile the examples, and the
+# CalculiX test fails with that message.
 set -uo pipefail
 missing=()
 command -v gfortran >/dev/null 2>&1 || missing+=(gfortran)
+command -v ccx >/dev/null 2>&1 || missing+=(calculix-ccx)
 [ ${#missing[@]} -eq 0 ] && exit 0
 if ! command -v apt-get >/dev/null 2>&1; then
     echo "install_test_tools: apt-get not found; please install: ${missing[*]}" >&2

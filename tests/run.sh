@@ -8,6 +8,6 @@
 # Long validation runs are opt-in: TCGEN_LONG_TESTS=1 tests/run.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/install_test_tools.sh   # gfortran for the Fortran GAPCON examples, if missing
+scripts/install_test_tools.sh   # gfortran (Fortran GAPCON examples) and ccx (CalculiX end-to-end test), if missing
 cargo test --release --workspace
 tests/python/run.sh

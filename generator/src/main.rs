@@ -128,20 +128,11 @@ enum Command {
     Law {
         /// The table (a complete, merged table with every point converged).
         table: std::path::PathBuf,
-        /// The law file (schemas/law.md).
+        /// The output: the law file (schemas/law.md), or the *GAP CONDUCTANCE block with --format calculix|abaqus.
         #[arg(short, long)]
         output: std::path::PathBuf,
-        /// The ensemble statistic the law tabulates (its conductance is |h|/jump
-        /// of it): mean-jump (harmonic mean of the conductances),
-        /// mean-conductance, or quantile:P (P in 1..=99, percent of the jump; high P is conservative).
-        #[arg(long, default_value = "mean-jump")]
-        statistic: String,
-        /// Extrapolation outside the table: POLICY (every axis) or AXIS=POLICY
-        /// (AXIS: pressure, flux, contact_temperature; POLICY: error, clamp,
-        /// linear, power = k ∝ p^m from the end cells, pressure only).
-        /// Repeatable, applied in order. Default: error on every axis.
-        #[arg(long, value_name = "[AXIS=]POLICY")]
-        extrapolate: Vec<String>,
+        #[command(flatten)]
+        args: LawArgs,
     },
     /// Print performance figures of assembly and the sparse solvers.
     Bench {
@@ -393,45 +384,141 @@ fn surface(
     }
 }
 
-fn law(
-    table: &std::path::Path,
-    output: &std::path::Path,
-    statistic: &str,
-    extrapolate: &[String],
-) -> ExitCode {
-    let options = (|| -> tcgen::Result<tcgen::io::LawOptions> {
-        let mut o = tcgen::io::LawOptions {
-            statistic: statistic.parse()?,
-            ..Default::default()
-        };
-        for e in extrapolate {
-            tcgen::io::apply_extrapolation(&mut o.extrapolation, e)?;
-        }
-        Ok(o)
-    })();
-    let options = match options {
+/// The options of `tcgen law` other than the paths.
+#[derive(clap::Args)]
+struct LawArgs {
+    /// The ensemble statistic the law tabulates (its conductance is |h|/jump
+    /// of it): mean-jump (harmonic mean of the conductances),
+    /// mean-conductance, or quantile:P (P in 1..=99, percent of the jump; high P is conservative).
+    #[arg(long, default_value = "mean-jump")]
+    statistic: String,
+    /// Extrapolation outside the table: POLICY (every axis) or AXIS=POLICY
+    /// (AXIS: pressure, flux, contact_temperature; POLICY: error, clamp,
+    /// linear, power = k ∝ p^m from the end cells, pressure only).
+    /// Repeatable, applied in order. Default: error on every axis.
+    #[arg(long, value_name = "[AXIS=]POLICY")]
+    extrapolate: Vec<String>,
+    /// Output format: tclaw (the binary law for lookup/, default), calculix
+    /// or abaqus (a *GAP CONDUCTANCE block: conductance |h|/jump versus
+    /// contact pressure at each contact temperature, for one flux).
+    #[arg(long, default_value = "tclaw")]
+    format: String,
+    /// calculix/abaqus: the flux |h| in W/m^2 (a table node, or inside the
+    /// table: interpolated by the law); required if the table has several.
+    #[arg(long)]
+    flux: Option<f64>,
+    /// calculix/abaqus: the deck's unit system, SI (default) or mm-N-s-K
+    /// (pressure N/mm^2, conductance mW/(mm^2 K)).
+    #[arg(long, default_value = "SI")]
+    units: String,
+    /// calculix/abaqus: temperatures in degrees Celsius instead of K.
+    #[arg(long)]
+    celsius: bool,
+    /// calculix/abaqus: largest relative deviation of the solver's linear
+    /// interpolation of the rows from the law (pressures are inserted).
+    #[arg(long, default_value_t = 1e-3)]
+    tolerance: f64,
+    /// calculix/abaqus: pressures in Pa the rows span (default: the
+    /// table's); beyond the table only with --extrapolate pressure=POLICY.
+    #[arg(long, value_name = "LO:HI")]
+    pressure_range: Option<String>,
+}
+
+/// Exit status of a failed `tcgen law`: 2 for bad input, else 1.
+fn law_failure(e: &tcgen::Error) -> ExitCode {
+    eprintln!("error: {e}");
+    match e {
+        tcgen::Error::InvalidInput { .. } => ExitCode::from(2),
+        _ => ExitCode::FAILURE,
+    }
+}
+
+fn law(table: &std::path::Path, output: &std::path::Path, a: &LawArgs) -> ExitCode {
+    use tcgen::io::{GapConductanceOptions, LawFormat};
+    let options =
+        (|| -> tcgen::Result<(tcgen::io::LawOptions, LawFormat, GapConductanceOptions)> {
+            let mut o = tcgen::io::LawOptions {
+                statistic: a.statistic.parse()?,
+                ..Default::default()
+            };
+            for e in &a.extrapolate {
+                tcgen::io::apply_extrapolation(&mut o.extrapolation, e)?;
+            }
+            let format: LawFormat = a.format.parse()?;
+            let deck = match format {
+                LawFormat::Deck(deck) => deck,
+                LawFormat::Tclaw => {
+                    let given = [
+                        ("--flux", a.flux.is_some()),
+                        ("--units", a.units != "SI"),
+                        ("--celsius", a.celsius),
+                        ("--tolerance", a.tolerance != 1e-3),
+                        ("--pressure-range", a.pressure_range.is_some()),
+                    ];
+                    if let Some((name, _)) = given.iter().find(|(_, g)| *g) {
+                        return Err(tcgen::Error::invalid(
+                            *name,
+                            "given",
+                            "only with --format calculix or --format abaqus (a tclaw law holds every flux and pressure)",
+                        ));
+                    }
+                    tcgen::io::GapDeck::Calculix
+                }
+            };
+            let g = GapConductanceOptions {
+                deck,
+                units: a.units.parse()?,
+                celsius: a.celsius,
+                flux: a.flux,
+                tolerance: a.tolerance,
+                pressure_range: a
+                    .pressure_range
+                    .as_deref()
+                    .map(tcgen::io::gap_conductance::parse_pressure_range)
+                    .transpose()?,
+            };
+            g.validate()?;
+            Ok((o, format, g))
+        })();
+    let (options, format, deck) = match options {
         Ok(o) => o,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return ExitCode::from(2);
-        }
+        Err(e) => return law_failure(&e),
     };
+    if let LawFormat::Deck(d) = format {
+        return match tcgen::io::write_gap_conductance(table, output, &options, &deck) {
+            Ok(rows) => {
+                println!(
+                    "wrote {}: {} for {} ({} units), |h| = {:e} W/m^2: {} pressures x {} temperature(s), \
+                     linear interpolation within {:.2e} of the law (tolerance {:.1e})",
+                    output.display(),
+                    d.keyword_line(),
+                    d.solver(),
+                    deck.units.name(),
+                    rows.flux,
+                    rows.pressures.len(),
+                    rows.temperatures.len(),
+                    rows.max_deviation,
+                    rows.tolerance
+                );
+                if options.extrapolation.pressure == lookup::Extrapolation::Error {
+                    println!(
+                        "  outside [{:e}, {:e}] Pa {}: keep contact pressures inside \
+                         (or --extrapolate pressure=clamp|power --pressure-range LO:HI)",
+                        rows.pressures[0],
+                        rows.pressures[rows.pressures.len() - 1],
+                        d.outside_rows()
+                    );
+                }
+                ExitCode::SUCCESS
+            }
+            Err(e) => law_failure(&e),
+        };
+    }
     match tcgen::io::write_law(table, output, &options) {
         Ok(l) => {
             let a = l.axes();
             let info = l.info();
-            let statistic = match info.statistic {
-                lookup::Statistic::EnsembleMean { samples } => {
-                    format!("mean jump of {samples} samples")
-                }
-                lookup::Statistic::EnsembleMeanConductance { samples } => {
-                    format!("jump of the mean conductance of {samples} samples")
-                }
-                lookup::Statistic::EnsembleQuantile { samples, percent } => {
-                    format!("{percent} % quantile of the jump over {samples} samples")
-                }
-                lookup::Statistic::Deterministic => "deterministic".into(),
-            };
+            let statistic = tcgen::io::describe_statistic(info.statistic);
             println!(
                 "wrote {}: {} pressures x {} fluxes x {} contact temperatures, {statistic}",
                 output.display(),
@@ -471,10 +558,7 @@ fn law(
             }
             ExitCode::SUCCESS
         }
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
-        }
+        Err(e) => law_failure(&e),
     }
 }
 
@@ -844,9 +928,8 @@ fn main() -> ExitCode {
         Command::Law {
             table,
             output,
-            statistic,
-            extrapolate,
-        } => law(&table, &output, &statistic, &extrapolate),
+            args,
+        } => law(&table, &output, &args),
         Command::Bench {
             sizes,
             pressures,

@@ -132,6 +132,20 @@ impl LawStatistic {
     }
 }
 
+/// The statistic of a law in words (for messages and deck headers).
+pub fn describe_statistic(statistic: Statistic) -> String {
+    match statistic {
+        Statistic::EnsembleMean { samples } => format!("mean jump of {samples} samples"),
+        Statistic::EnsembleMeanConductance { samples } => {
+            format!("jump of the mean conductance of {samples} samples")
+        }
+        Statistic::EnsembleQuantile { samples, percent } => {
+            format!("{percent} % quantile of the jump over {samples} samples")
+        }
+        Statistic::Deterministic => "deterministic".into(),
+    }
+}
+
 /// What `tcgen law` writes besides the table's numbers.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LawOptions {
