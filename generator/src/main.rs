@@ -148,6 +148,12 @@ enum Command {
         /// Finest uniform mesh (elements along x) of the accuracy benchmark.
         #[arg(long, default_value_t = 64)]
         finest: usize,
+        /// Elements per direction (even) of the 3D solver benchmark's cubes.
+        #[arg(long, value_delimiter = ',', default_values_t = vec![4usize, 8, 12, 16])]
+        cube: Vec<usize>,
+        /// NURBS degree of the 3D solver benchmark.
+        #[arg(long, default_value_t = 2)]
+        degree: usize,
     },
 }
 
@@ -159,6 +165,8 @@ enum BenchPart {
     Micro,
     /// Accuracy per cost: uniform against adaptive meshes on the Sect. 5.7 sample.
     Accuracy,
+    /// 3D direct solvers: factorization time and memory versus unknowns (p = 2 cube).
+    Solvers3d,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -935,8 +943,15 @@ fn main() -> ExitCode {
             pressures,
             only,
             finest,
+            cube,
+            degree,
         } => {
             let run = || -> tcgen::Result<()> {
+                if only == Some(BenchPart::Solvers3d) {
+                    let rows = tcgen::bench::solver_3d_bench(degree, &cube)?;
+                    print!("{}", tcgen::bench::format_solver_3d_bench(degree, &rows));
+                    return Ok(());
+                }
                 if only.is_none() || only == Some(BenchPart::Solvers) {
                     tcgen::bench::main_bench(&sizes)?;
                 }

@@ -57,7 +57,7 @@ fn manufactured_conduction_converges_at_optimal_rates_in_3d() {
 }
 
 /// 3D finite-strain thermoelasticity on the warped cube, p = 1, 2 (p = 3,
-/// 50 s with the direct solver, under TCGEN_LONG_TESTS=1).
+/// 50 s, mostly the coupled 3D assembly, under TCGEN_LONG_TESTS=1).
 #[test]
 fn manufactured_thermoelasticity_converges_at_optimal_rates_in_3d() {
     run("mms3d_thermoelastic_p1");
