@@ -212,6 +212,10 @@ pub struct ContactZone {
 /// polynomial can have close together).
 const ZONE_SAMPLES: usize = 16;
 
+/// The field index of the temperature among a contact element's unknowns
+/// `(node, field)` (plane strain: 0, 1 displacement, 2 temperature).
+const TEMPERATURE_FIELD: usize = 2;
+
 /// The motion of a breakpoint `ξb` between two master pieces where the gap's
 /// gradient jumps (two orthogonal projections at equal distance): it adds
 /// `−N^I J (∇g_L − ∇g_R) ⊗ (∇g_L − ∇g_R) / ∂ξ(g_L − g_R)` to `H^I`, since
@@ -1120,13 +1124,28 @@ impl ContactInterface {
                     continue;
                 }
                 let pd = self.point_dofs(q);
-                let map: Vec<Option<usize>> =
+                let map: Vec<Option<usize>> = pd
+                    .iter()
+                    .map(|d| {
+                        dofs.binary_search(d)
+                            .ok()
+                            .filter(|_| d.1 == TEMPERATURE_FIELD)
+                    })
+                    .collect();
+                let cols: Vec<Option<usize>> =
                     pd.iter().map(|d| dofs.binary_search(d).ok()).collect();
-                self.continuum_point(q, &map, &mut add_k, r);
+                self.continuum_point(q, &map, &cols, &mut add_k, r);
             }
             return;
         }
         let gamma = gts / area;
+        // The energy balance Σ_I h0^I ⟨N^I δϑc⟩ varies the temperatures only
+        // (δϑc = δθ_slave − δθ_master, spec §6): its rows are the temperature
+        // unknowns. In the coupled method ⟨N^I ϑc⟩ also depends on the
+        // displacements (projection, mortar weights); that enters the tangent
+        // of the temperature rows (and of the λθ row), not the mechanical
+        // equilibrium.
+        let thermal_row: Vec<bool> = dofs.iter().map(|d| d.1 == TEMPERATURE_FIELD).collect();
         match self.settings.thermal {
             ThermalContact::Constraint {
                 enforcement: ThermalEnforcement::AugmentedLagrangian,
@@ -1137,20 +1156,22 @@ impl ContactInterface {
                 let lam = self.lambda_t[i];
                 if active {
                     let h0 = lam - self.eps_t * gamma;
-                    for a in 0..nd {
+                    for a in (0..nd).filter(|&a| thermal_row[a]) {
                         r[a] -= h0 * gt[a];
                     }
                     r[il] -= gts;
                     if want_h {
                         for a in 0..nd {
-                            for b in 0..nd {
-                                add_k(
-                                    a,
-                                    b,
-                                    -h0 * ht[a * nd + b] + self.eps_t * gt[a] * gt[b] / area,
-                                );
+                            if thermal_row[a] {
+                                for b in 0..nd {
+                                    add_k(
+                                        a,
+                                        b,
+                                        -h0 * ht[a * nd + b] + self.eps_t * gt[a] * gt[b] / area,
+                                    );
+                                }
+                                add_k(a, il, -gt[a]);
                             }
-                            add_k(a, il, -gt[a]);
                             add_k(il, a, -gt[a]);
                         }
                     }
@@ -1166,11 +1187,11 @@ impl ContactInterface {
                 if active {
                     // h0 = −εθ γθ (4.7)
                     let h0 = -self.eps_t * gamma;
-                    for a in 0..nd {
+                    for a in (0..nd).filter(|&a| thermal_row[a]) {
                         r[a] -= h0 * gt[a];
                     }
                     if want_h {
-                        for a in 0..nd {
+                        for a in (0..nd).filter(|&a| thermal_row[a]) {
                             for b in 0..nd {
                                 add_k(
                                     a,
@@ -1190,7 +1211,7 @@ impl ContactInterface {
                     let pn = self.pressure(i).max(0.0);
                     let c = kt * pn.powf(alpha);
                     let h0 = -c * gamma;
-                    for a in 0..nd {
+                    for a in (0..nd).filter(|&a| thermal_row[a]) {
                         r[a] -= h0 * gt[a];
                     }
                     if want_h {
@@ -1200,7 +1221,7 @@ impl ContactInterface {
                         } else {
                             0.0
                         };
-                        for a in 0..nd {
+                        for a in (0..nd).filter(|&a| thermal_row[a]) {
                             for b in 0..nd {
                                 let mut v = c * (gt[a] * gt[b] / area) - h0 * ht[a * nd + b];
                                 if !frozen {
@@ -1221,11 +1242,14 @@ impl ContactInterface {
     /// Continuum (pointwise) thermal contact at integration point `q` (paper
     /// Sects. 5.1–5.2): `h0 = −εθ ϑc` or `−kθ pN^α ϑc` at the point, the
     /// pressure interpolated from the slave control points (frozen in its
-    /// linearization). `map` takes the point's unknowns to the element's.
+    /// linearization). `map` takes the point's temperature unknowns to the
+    /// element's rows (the energy balance varies the temperatures only),
+    /// `cols` all its unknowns to the element's columns.
     fn continuum_point(
         &self,
         q: usize,
         map: &[Option<usize>],
+        cols: &[Option<usize>],
         add_k: &mut impl FnMut(usize, usize, f64),
         r: &mut [f64],
     ) {
@@ -1257,7 +1281,7 @@ impl ContactInterface {
         for (a, ia) in map.iter().enumerate() {
             let Some(ia) = *ia else { continue };
             r[ia] -= sp.weight * h0 * st.jump.grad[a];
-            for (b, ib) in map.iter().enumerate() {
+            for (b, ib) in cols.iter().enumerate() {
                 let Some(ib) = *ib else { continue };
                 add_k(
                     ia,
