@@ -4,7 +4,7 @@
 //! points; and how the fields of the two phases of the two-phase framework
 //! combine into the fields of one load point.
 
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Vector3;
 
 use crate::solve::Model;
 
@@ -176,27 +176,22 @@ fn sample_body(model: &Model, index: usize) -> BodyFields {
                 [jac[1][1] / det, -jac[0][1] / det],
                 [-jac[1][0] / det, jac[0][0] / det],
             ];
-            let (mut gu, mut gt) = ([[0.0; 2]; 2], [0.0; 2]);
+            // Nodal displacements and dR/dX_j = Σ_k dR/dξ_k (J⁻¹)_kj.
+            let mut gt = [0.0; 2];
+            let (mut ua, mut dn) = (Vec::with_capacity(b.indices.len()), Vec::new());
             for (a, &c) in b.indices.iter().enumerate() {
                 let st = node(c);
-                // dR/dX_j = Σ_k dR/dξ_k (J⁻¹)_kj
                 let dx = [
                     b.d1[a][0] * inv[0][0] + b.d1[a][1] * inv[1][0],
                     b.d1[a][0] * inv[0][1] + b.d1[a][1] * inv[1][1],
                 ];
                 for i in 0..2 {
-                    for j in 0..2 {
-                        gu[i][j] += st[i] * dx[j];
-                    }
                     gt[i] += st[2] * dx[i];
                 }
+                ua.push([st[0], st[1], 0.0]);
+                dn.push([dx[0], dx[1], 0.0]);
             }
-            let mut f = Matrix3::identity();
-            for i in 0..2 {
-                for j in 0..2 {
-                    f[(i, j)] += gu[i][j];
-                }
-            }
+            let f = crate::bulk::local::deformation_gradient(2, &ua, &dn);
             let m = &body.material;
             let sigma = m.cauchy_stress(&f, th) * s.stress;
             let q0 = m.heat_flux(&f, th, &Vector3::new(gt[0], gt[1], 0.0));
