@@ -57,6 +57,11 @@ fn mechanical_patch() {
 }
 
 #[test]
+fn patch_tests_3d() {
+    assert_pass(&contact::patch_3d().unwrap());
+}
+
+#[test]
 fn hertz_p2_coarse() {
     assert_pass(&contact::hertz_default().unwrap());
 }

@@ -13,7 +13,7 @@
 use std::path::Path;
 
 use tcgen::sample::Case;
-use tcgen::sample::micro::{case_geometry, fitted_height};
+use tcgen::sample::micro::case_geometry;
 
 const DATA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/");
 
@@ -35,7 +35,7 @@ fn random_profile_matches_the_boundary_element_reference() {
     let w = case.sample.width;
     let n = 16384;
     let z: Vec<f64> = (0..n)
-        .map(|i| fitted_height(&geo.fit_upper, w, w * i as f64 / n as f64))
+        .map(|i| geo.fit_upper.height_at(w * i as f64 / n as f64, 0.0))
         .collect();
     let mean = z.iter().sum::<f64>() / n as f64;
     let rms = (z.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n as f64).sqrt();

@@ -1,4 +1,4 @@
-//! Mortar contact interface in 2D (paper Sect. 4.2–4.3, spec §6):
+//! Mortar contact interface in 2D and 3D (paper Sect. 4.2–4.3, spec §6):
 //! element-based integration on the slave surface, projection of every
 //! integration point onto the master, row-sum lumped weighted gaps and jumps
 //! (4.8), Alart–Curnier augmented Lagrangian for normal contact, and the
@@ -18,15 +18,26 @@
 //! which is the gradient of the augmented Lagrangian, so the tangent is
 //! symmetric (LDLᵀ-ready). The thermal terms have the same structure with
 //! `γθ^I = ⟨N^I ϑc⟩/A^I` and `h0^I`, the flux *into* the slave.
+//!
+//! The same code serves both dimensions: nodes carry `dim + 1` unknowns
+//! (displacement, temperature); in 3D the master is a surface
+//! ([`crate::contact::projection3d`], periodic in x and y) and the gap and
+//! jump come from [`crate::contact::kinematics3d`]. In 3D the integration is
+//! element-based (`interface_points²` Gauss points per slave element) and the
+//! thermal phase keeps the nodal supports of the active set (no sub-element
+//! contact zone, `thermal_zone` is a 2D refinement); the contact area is
+//! measured on the interpolated pressure indicator ([`ContactInterface::contact_length`]).
 
 use std::collections::BTreeSet;
 use std::sync::Arc;
 
 use crate::basis::{RationalBasis, TensorBasis};
 use crate::contact::kinematics::{Derivatives, Needs, PointGeometry, differentiate};
+use crate::contact::kinematics3d::SurfacePointGeometry;
 use crate::contact::projection::{
     MasterCurve, MasterSamples, Projection, project, project_on_element,
 };
+use crate::contact::projection3d::{self, Guess, MasterSearch, MasterSurface, SurfaceProjection};
 use crate::contact::segments::{Breakpoint, Segmenter, interval_points};
 use crate::contact::{
     ContactSettings, Integration, ThermalContact, ThermalEnforcement, ThermalMethod,
@@ -61,8 +72,10 @@ fn owner_of(p: &SlavePoint) -> usize {
 pub struct PointState {
     /// Master face node indices (into the master face nodes) of the element.
     pub master: Vec<usize>,
-    /// The projection.
+    /// The projection (2D).
     pub projection: Projection,
+    /// The projection onto the master surface (3D).
+    pub surface: Option<SurfaceProjection>,
     /// Gap with derivatives.
     pub gap: Derivatives,
     /// Temperature jump with derivatives.
@@ -82,8 +95,17 @@ pub struct Unknowns {
     pub mechanical_terms: bool,
 }
 
-/// A slave/master pair of curves in contact.
+impl PointState {
+    /// The master face element the point projects onto.
+    pub fn master_element(&self) -> usize {
+        self.surface.map_or(self.projection.element, |s| s.element)
+    }
+}
+
+/// A slave/master pair of curves (2D) or surfaces (3D) in contact.
 pub struct ContactInterface {
+    /// Spatial dimension (2 or 3); nodes carry `dim + 1` unknowns.
+    dim: usize,
     /// Settings (penalties scaled).
     pub settings: ContactSettings,
     /// Global node numbers of the slave face control points.
@@ -212,9 +234,9 @@ pub struct ContactZone {
 /// polynomial can have close together).
 const ZONE_SAMPLES: usize = 16;
 
-/// The field index of the temperature among a contact element's unknowns
-/// `(node, field)` (plane strain: 0, 1 displacement, 2 temperature).
-const TEMPERATURE_FIELD: usize = 2;
+/// Sub-cells per slave element and direction on which the 3D contact area
+/// is measured (midpoint rule on the interpolated pressure indicator).
+const AREA_SAMPLES: usize = 16;
 
 /// The motion of a breakpoint `ξb` between two master pieces where the gap's
 /// gradient jumps (two orthogonal projections at equal distance): it adds
@@ -248,10 +270,13 @@ impl ContactInterface {
         let (slave_face, sidx) = sp.face(sdir, sside);
         let slave_face = Arc::new(slave_face);
         let (master_face, midx) = mp.face(mdir, mside);
-        if master_face.param_dim() != 1 {
-            return Err(Error::Geometry(
-                "contact is implemented for 2D bodies (curves)".into(),
-            ));
+        let dim = mp.param_dim();
+        if !(2..=3).contains(&dim) || sp.param_dim() != dim {
+            return Err(Error::Geometry(format!(
+                "contact needs two bodies of dimension 2 or 3 (got {} and {})",
+                sp.param_dim(),
+                dim
+            )));
         }
         let slave_nodes: Vec<usize> = sidx.iter().map(|i| i + soff).collect();
         let master_nodes: Vec<usize> = midx.iter().map(|i| i + moff).collect();
@@ -271,8 +296,9 @@ impl ContactInterface {
             .enumerate()
         {
             let conn: Vec<usize> = fe.conn.iter().map(|&c| local_of(c)).collect();
+            // The element's size: its length (2D) or the root of its area (3D).
             let len: f64 = fe.points.iter().map(|q| q.weight).sum();
-            h_min = h_min.min(len);
+            h_min = h_min.min(len.powf(1.0 / (dim - 1) as f64));
             for q in fe.points {
                 let id = points.len();
                 for (a, &i) in conn.iter().enumerate() {
@@ -293,34 +319,59 @@ impl ContactInterface {
                 "a lumped mortar area ⟨N^I⟩ is not positive".into(),
             ));
         }
-        // The master's outward normal: the tangent (increasing parameter) turned
-        // counter-clockwise if the body lies to its right.
+        // The master's outward normal: in 2D the tangent (increasing
+        // parameter) turned counter-clockwise if the body lies to its right;
+        // in 3D `a_1 × a_2` if it points out of the body.
         let fq = mp.face_quadrature(mdir, mside, 2);
         let q = &fq[fq.len() / 2].points[0];
         let nrm = q.normal;
-        let master_curve = MasterCurve {
-            face: &master_face,
-            points: master_face.control_points(),
-        };
-        let eta = q.xi[1 - mdir];
-        let tangent = master_curve.eval(master_curve.locate(eta), eta)[1];
-        let ccw = [-tangent[1], tangent[0]];
-        let normal_sign = if ccw[0] * nrm[0] + ccw[1] * nrm[1] > 0.0 {
-            1.0
+        let outward = if dim == 2 {
+            let master_curve = MasterCurve {
+                face: &master_face,
+                points: master_face.control_points(),
+            };
+            let eta = q.xi[1 - mdir];
+            let tangent = master_curve.eval(master_curve.locate(eta), eta)[1];
+            -tangent[1] * nrm[0] + tangent[0] * nrm[1]
         } else {
-            -1.0
+            let surface = MasterSurface {
+                face: &master_face,
+                points: master_face.control_points(),
+            };
+            let dirs: Vec<usize> = (0..3).filter(|&d| d != mdir).collect();
+            let eta = [q.xi[dirs[0]], q.xi[dirs[1]]];
+            let a = projection3d::SurfaceEvaluator::new(surface)
+                .at(master_face.locate(&eta), eta)
+                .a;
+            let n = [
+                a[0][1] * a[1][2] - a[0][2] * a[1][1],
+                a[0][2] * a[1][0] - a[0][0] * a[1][2],
+                a[0][0] * a[1][1] - a[0][1] * a[1][0],
+            ];
+            n[0] * nrm[0] + n[1] * nrm[1] + n[2] * nrm[2]
         };
-        let kv_m = &master_face.knots()[0];
-        let c0_master = kv_m.degree() == 1
-            || kv_m
-                .breaks()
-                .iter()
-                .skip(1)
-                .take(kv_m.n_elements().saturating_sub(1))
-                .any(|&u| kv_m.multiplicity(u) >= kv_m.degree());
+        let normal_sign = if outward > 0.0 { 1.0 } else { -1.0 };
+        let c0_master = master_face.knots().iter().any(|kv_m| {
+            kv_m.degree() == 1
+                || kv_m
+                    .breaks()
+                    .iter()
+                    .skip(1)
+                    .take(kv_m.n_elements().saturating_sub(1))
+                    .any(|&u| kv_m.multiplicity(u) >= kv_m.degree())
+        });
+        // Segment-based integration is built for curves; in 3D the
+        // integration is element-based (exact projection at every point).
+        if dim == 3 && settings.integration == Integration::Segment {
+            return Err(Error::invalid(
+                "contact.integration",
+                "\"segment\"",
+                "\"element\" or \"auto\" for 3D samples (segment-based integration is 2D only)",
+            ));
+        }
         let segmenter = match settings.integration {
             Integration::Segment => true,
-            Integration::Auto => c0_master,
+            Integration::Auto => c0_master && dim == 2,
             Integration::Element => false,
         }
         .then(|| Segmenter::new(Arc::clone(&slave_face), settings.interface_points));
@@ -333,6 +384,7 @@ impl ContactInterface {
             _ => 10.0 / h_min,
         };
         Ok(ContactInterface {
+            dim,
             slave_ref: sidx.iter().map(|&i| sp.control_points()[i]).collect(),
             master_ref: midx.iter().map(|&i| mp.control_points()[i]).collect(),
             master_face: Arc::new(master_face),
@@ -495,18 +547,27 @@ impl ContactInterface {
 
     /// Projects every integration point in the current configuration and
     /// evaluates gap and jump, differentiated as far as the phase `needs`.
-    /// `state` holds `dim + 1 = 3` components per node.
+    /// `state` holds `dim + 1` components per node.
     pub fn prepare(&mut self, state: &[f64], needs: Needs) -> Result<()> {
-        let nf = 3;
+        let (dim, nf) = (self.dim, self.dim + 1);
         let cur = |nodes: &[usize], refx: &[[f64; 3]]| -> Vec<[f64; 3]> {
             nodes
                 .iter()
                 .zip(refx)
-                .map(|(&n, x)| [x[0] + state[n * nf], x[1] + state[n * nf + 1], 0.0])
+                .map(|(&n, x)| {
+                    let mut c = [0.0; 3];
+                    for k in 0..dim {
+                        c[k] = x[k] + state[n * nf + k];
+                    }
+                    c
+                })
                 .collect()
         };
         let master_cur = cur(&self.master_nodes, &self.master_ref);
         let slave_cur = cur(&self.slave_nodes, &self.slave_ref);
+        if dim == 3 {
+            return self.prepare_3d(state, needs, &slave_cur, &master_cur);
+        }
         // The segmentation depends on the positions only: it is kept while
         // they do not move (the thermal phase on a frozen configuration).
         let positions: Vec<[f64; 3]> = slave_cur.iter().chain(&master_cur).copied().collect();
@@ -541,6 +602,66 @@ impl ContactInterface {
         } else {
             Vec::new()
         };
+        Ok(())
+    }
+
+    /// [`ContactInterface::prepare`] in 3D: projection onto the master
+    /// surface and its periodic images in x and y, element-based points.
+    fn prepare_3d(
+        &mut self,
+        state: &[f64],
+        needs: Needs,
+        slave_cur: &[[f64; 3]],
+        master_cur: &[[f64; 3]],
+    ) -> Result<()> {
+        let face = Arc::clone(&self.master_face);
+        let surface = MasterSurface {
+            face: &face,
+            points: master_cur,
+        };
+        let search = MasterSearch::new(&surface, [self.period, self.period]);
+        let previous = std::mem::take(&mut self.state);
+        let mut out = Vec::with_capacity(self.points.len());
+        for (i, sp) in self.points.iter().enumerate() {
+            let mut xs = [0.0; 3];
+            for (a, &c) in sp.conn.iter().enumerate() {
+                for k in 0..3 {
+                    xs[k] += sp.basis[a] * slave_cur[c][k];
+                }
+            }
+            let guess = previous
+                .get(i)
+                .and_then(|s| s.surface.as_ref())
+                .map(Guess::from);
+            let pr = projection3d::project(&surface, &search, xs, guess)?;
+            let geo = SurfacePointGeometry::new(
+                &face,
+                &pr,
+                self.normal_sign,
+                sp.basis.clone(),
+                sp.conn.iter().map(|&c| self.slave_ref[c]).collect(),
+            );
+            let master = face.elements()[pr.element].functions.clone();
+            let mut z = Vec::with_capacity(geo.n_local());
+            for n in sp
+                .conn
+                .iter()
+                .map(|&c| self.slave_nodes[c])
+                .chain(master.iter().map(|&j| self.master_nodes[j]))
+            {
+                z.extend_from_slice(&state[n * 4..n * 4 + 4]);
+            }
+            let (gap, jump) = crate::contact::kinematics3d::differentiate(&geo, &z, needs);
+            out.push(PointState {
+                master,
+                projection: Projection::default(),
+                surface: Some(pr),
+                gap,
+                jump,
+            });
+        }
+        self.state = out;
+        self.break_terms = Vec::new();
         Ok(())
     }
 
@@ -588,19 +709,21 @@ impl ContactInterface {
             jump,
             master,
             projection: pr,
+            surface: None,
         }
     }
 
     /// Local unknowns `(node, field)` of integration point `q`, in the order of its kinematics.
     fn point_dofs(&self, q: usize) -> Vec<(usize, usize)> {
+        let nf = self.dim + 1;
         let mut v = Vec::new();
         for &c in &self.points[q].conn {
-            for f in 0..3 {
+            for f in 0..nf {
                 v.push((self.slave_nodes[c], f));
             }
         }
         for &j in &self.state[q].master {
-            for f in 0..3 {
+            for f in 0..nf {
                 v.push((self.master_nodes[j], f));
             }
         }
@@ -610,24 +733,17 @@ impl ContactInterface {
     /// Whether the current projections stay within the coupling band of the
     /// pattern; if not, widens the band and returns `true` (pattern changed).
     pub fn update_band(&mut self) -> bool {
+        if self.dim == 3 {
+            return self.update_band_3d();
+        }
         let n_el = self.master_face.n_elements() as i64;
         let widen = self.master_face.knots()[0].degree() as i64 + 1;
         let mut changed = false;
         for i in 0..self.n_slave() {
-            let mut need = BTreeSet::new();
-            for &q in &self.node_points[i] {
-                for &j in &self.state[q].master {
-                    need.insert(j);
-                }
-            }
-            if !need.is_subset(&self.band[i]) {
+            if let Some(seen) = self.outgrown(i) {
                 changed = true;
                 // The master elements the node's points see, and p + 1 elements
                 // on either side (across the seam for periodic masters).
-                let seen: BTreeSet<usize> = self.node_points[i]
-                    .iter()
-                    .map(|&q| self.state[q].projection.element)
-                    .collect();
                 for e in seen {
                     for k in e as i64 - widen..=e as i64 + widen {
                         let f = match self.period {
@@ -643,19 +759,81 @@ impl ContactInterface {
         changed
     }
 
+    /// The master elements that slave node `i`'s points see, if they need
+    /// master functions outside its band.
+    fn outgrown(&self, i: usize) -> Option<BTreeSet<usize>> {
+        let need: BTreeSet<usize> = self.node_points[i]
+            .iter()
+            .flat_map(|&q| self.state[q].master.iter().copied())
+            .collect();
+        (!need.is_subset(&self.band[i])).then(|| {
+            self.node_points[i]
+                .iter()
+                .map(|&q| self.state[q].master_element())
+                .collect()
+        })
+    }
+
+    /// [`ContactInterface::update_band`] in 3D: a node that sees master
+    /// elements outside its band gets every master element within `p + 1`
+    /// element widths of them in the parameter plane (across the seams of
+    /// a periodic master).
+    fn update_band_3d(&mut self) -> bool {
+        let face = Arc::clone(&self.master_face);
+        let widen = face.degrees().into_iter().max().unwrap_or(1) as f64 + 1.0;
+        let els = face.elements();
+        let kv = face.knots();
+        let domain: Vec<(f64, f64)> = kv.iter().map(|k| (k.first(), k.last())).collect();
+        let periodic = self.period.is_some();
+        // Distance between the intervals [a0, a1] and [b0, b1] on direction
+        // d, across the seam for periodic masters.
+        let gap = |d: usize, a: (f64, f64), b: (f64, f64)| -> f64 {
+            let direct = (b.0 - a.1).max(a.0 - b.1).max(0.0);
+            if !periodic {
+                return direct;
+            }
+            let len = domain[d].1 - domain[d].0;
+            [len, -len]
+                .iter()
+                .map(|s| (b.0 + s - a.1).max(a.0 - b.1 - s).max(0.0))
+                .fold(direct, f64::min)
+        };
+        let mut changed = false;
+        for i in 0..self.n_slave() {
+            let Some(seen) = self.outgrown(i) else {
+                continue;
+            };
+            changed = true;
+            for e in seen {
+                let el = &els[e];
+                for f in els {
+                    let near = (0..2).all(|d| {
+                        let margin = widen * (el.upper[d] - el.lower[d]);
+                        gap(d, (el.lower[d], el.upper[d]), (f.lower[d], f.upper[d])) <= margin
+                    });
+                    if near {
+                        self.band[i].extend(&f.functions);
+                    }
+                }
+            }
+        }
+        changed
+    }
+
     /// Unknowns `(node, field)` of the contact element of slave node `i`
     /// (multipliers not included), in a fixed order.
     pub fn element_dofs(&self, i: usize) -> Vec<(usize, usize)> {
+        let nf = self.dim + 1;
         let mut set = BTreeSet::new();
         for &q in &self.node_points[i] {
             for &c in &self.points[q].conn {
-                for f in 0..3 {
+                for f in 0..nf {
                     set.insert((self.slave_nodes[c], f));
                 }
             }
         }
         for &j in &self.band[i] {
-            for f in 0..3 {
+            for f in 0..nf {
                 set.insert((self.master_nodes[j], f));
             }
         }
@@ -792,7 +970,7 @@ impl ContactInterface {
         let p: Vec<f64> = (0..self.n_slave()).map(|i| self.indicator(i)).collect();
         let a: Vec<bool> = (0..self.n_slave()).map(|i| self.is_active(i)).collect();
         let constraint = matches!(self.settings.thermal, ThermalContact::Constraint { .. });
-        if !(self.settings.thermal_zone && constraint) {
+        if !(self.settings.thermal_zone && constraint) || self.dim == 3 {
             self.frozen = Some((p, a));
             return;
         }
@@ -981,10 +1159,17 @@ impl ContactInterface {
             .sum()
     }
 
-    /// Length (scaled, projected on the mean plane) of the contact zone
-    /// [`ContactZone`] in the configuration `state`: the frozen zone in the
-    /// thermal phase, else the zone of the current indicator.
+    /// Length (2D) or area (3D) of the contact zone [`ContactZone`],
+    /// projected on the mean plane and scaled, in the configuration `state`:
+    /// the frozen zone in the thermal phase, else the zone of the current
+    /// indicator. In 3D the indicator interpolated from the slave control
+    /// points is sampled at the midpoints of [`AREA_SAMPLES`]² sub-cells of
+    /// every slave element (the frozen indicator in the thermal phase).
     pub fn contact_length(&self, state: &[f64]) -> f64 {
+        if self.dim == 3 {
+            let ind: Vec<f64> = (0..self.n_slave()).map(|i| self.indicator(i)).collect();
+            return self.contact_area(&ind, state);
+        }
         match &self.zone {
             Some(z) => z.projected_length,
             None => {
@@ -992,6 +1177,43 @@ impl ContactInterface {
                 self.contact_zone(&ind, state).projected_length
             }
         }
+    }
+
+    /// Projected area (scaled) of the slave surface where the indicator
+    /// interpolated from the nodal values `ind` is positive (3D), in the
+    /// configuration `state`: midpoint rule on sub-cells.
+    fn contact_area(&self, ind: &[f64], state: &[f64]) -> f64 {
+        let face = &*self.slave_face;
+        let (mut scratch, mut basis) = (TensorBasis::default(), RationalBasis::default());
+        let n = AREA_SAMPLES;
+        let mut area = 0.0;
+        for (e, el) in face.elements().iter().enumerate() {
+            let h = [0, 1].map(|d| (el.upper[d] - el.lower[d]) / n as f64);
+            for k in 0..n * n {
+                let xi = [
+                    el.lower[0] + h[0] * ((k % n) as f64 + 0.5),
+                    el.lower[1] + h[1] * ((k / n) as f64 + 0.5),
+                ];
+                face.element_basis_into(e, &xi, 1, &mut scratch, &mut basis);
+                let mut value = 0.0;
+                let mut dx = [[0.0; 2]; 2];
+                for (a, &c) in basis.indices.iter().enumerate() {
+                    value += basis.values[a] * ind[c];
+                    let node = self.slave_nodes[c];
+                    for j in 0..2 {
+                        let x = self.slave_ref[c][j] + state[node * 4 + j];
+                        for d in 0..2 {
+                            dx[j][d] += basis.d1[a][d] * x;
+                        }
+                    }
+                }
+                if value > 0.0 {
+                    let det = dx[0][0] * dx[1][1] - dx[0][1] * dx[1][0];
+                    area += det.abs() * h[0] * h[1];
+                }
+            }
+        }
+        area
     }
 
     /// The frozen contact zone (thermal phase).
@@ -1045,22 +1267,19 @@ impl ContactInterface {
             let st = &self.state[q];
             gs += w * st.gap.value;
             gts += w * st.jump.value;
-            let m = pd.len();
             // Only the derivatives the current phase asked for are present.
             for (d, gv, hv) in [(&st.gap, &mut g, &mut h), (&st.jump, &mut gt, &mut ht)] {
                 if d.grad.is_empty() {
                     continue;
                 }
                 for (a, ia) in map.iter().enumerate() {
-                    let Some(ia) = *ia else { continue };
-                    gv[ia] += w * d.grad[a];
-                    // An empty Hessian is zero in the unknowns of the phase.
-                    if want_h && !d.hess.is_empty() {
-                        for (b, ib) in map.iter().enumerate() {
-                            let Some(ib) = *ib else { continue };
-                            hv[ia * nd + ib] += w * d.hess[a * m + b];
-                        }
+                    if let Some(ia) = *ia {
+                        gv[ia] += w * d.grad[a];
                     }
+                }
+                // An empty Hessian is zero in the unknowns of the phase.
+                if want_h {
+                    d.add_hessian(w, &map, nd, hv);
                 }
             }
         }
@@ -1126,11 +1345,7 @@ impl ContactInterface {
                 let pd = self.point_dofs(q);
                 let map: Vec<Option<usize>> = pd
                     .iter()
-                    .map(|d| {
-                        dofs.binary_search(d)
-                            .ok()
-                            .filter(|_| d.1 == TEMPERATURE_FIELD)
-                    })
+                    .map(|d| dofs.binary_search(d).ok().filter(|_| d.1 == self.dim))
                     .collect();
                 let cols: Vec<Option<usize>> =
                     pd.iter().map(|d| dofs.binary_search(d).ok()).collect();
@@ -1145,7 +1360,7 @@ impl ContactInterface {
         // displacements (projection, mortar weights); that enters the tangent
         // of the temperature rows (and of the λθ row), not the mechanical
         // equilibrium.
-        let thermal_row: Vec<bool> = dofs.iter().map(|d| d.1 == TEMPERATURE_FIELD).collect();
+        let thermal_row: Vec<bool> = dofs.iter().map(|d| d.1 == self.dim).collect();
         match self.settings.thermal {
             ThermalContact::Constraint {
                 enforcement: ThermalEnforcement::AugmentedLagrangian,
@@ -1277,7 +1492,12 @@ impl ContactInterface {
         let m = map.len();
         let h0 = -c * st.jump.value;
         // An empty Hessian is zero in the unknowns of the phase.
-        let hess = |a: usize, b: usize| st.jump.hess.get(a * m + b).copied().unwrap_or(0.0);
+        let dense = if st.jump.hess.is_empty() && st.jump.factors.is_empty() {
+            Vec::new()
+        } else {
+            st.jump.dense_hessian()
+        };
+        let hess = |a: usize, b: usize| dense.get(a * m + b).copied().unwrap_or(0.0);
         for (a, ia) in map.iter().enumerate() {
             let Some(ia) = *ia else { continue };
             r[ia] -= sp.weight * h0 * st.jump.grad[a];

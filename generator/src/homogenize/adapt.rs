@@ -109,7 +109,7 @@ pub fn mark_contact_edges(model: &Model, slave: usize) -> Result<Marks> {
             .iter()
             .zip(&c.state)
             .filter(|(p, _)| slave_set.contains(&p.element))
-            .map(|(_, st)| st.projection.element)
+            .map(|(_, st)| st.master_element())
             .collect();
         (slave_set, with_neighbours(mface, &seen))
     };

@@ -338,7 +338,8 @@ impl<'a> PathSolver<'a> {
         } else {
             abp.lower
         };
-        self.model.prescribe_face(mface.0, 1, mface.1, 2, tm);
+        self.model
+            .prescribe_face(mface.0, self.model.dim - 1, mface.1, self.model.dim, tm);
         // Staggered predictor, then the monolithic corrector: the pressure
         // step mechanically at the current temperatures, the flux thermally
         // on that frozen configuration, then the coupled problem at the
@@ -358,7 +359,9 @@ impl<'a> PathSolver<'a> {
         self.model.set_coupling(Coupling::Coupled)?;
         it += self.drive([pressure, flux], [pressure, flux])?;
         self.last_pressure = pressure;
-        let ts = self.model.face_mean_temperature(sface.0, 1, sface.1);
+        let ts = self
+            .model
+            .face_mean_temperature(sface.0, self.model.dim - 1, sface.1);
         if self.capture {
             // One monolithic state: every field from it.
             self.fields = Some(Fields::sample(&self.model));
@@ -699,9 +702,12 @@ impl<'a> PathSolver<'a> {
         } else {
             abp.lower
         };
-        self.model.prescribe_face(mface.0, 1, mface.1, 2, tm);
+        self.model
+            .prescribe_face(mface.0, self.model.dim - 1, mface.1, self.model.dim, tm);
         let result = self.drive([pressure, 0.0], [pressure, flux]);
-        let ts = self.model.face_mean_temperature(sface.0, 1, sface.1);
+        let ts = self
+            .model
+            .face_mean_temperature(sface.0, self.model.dim - 1, sface.1);
         let interface = measure(&self.model, self.alpha)?;
         // The thermal phase's own state (with its frozen conductivities).
         let fields = match (mechanical, &result) {

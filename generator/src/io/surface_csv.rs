@@ -57,12 +57,12 @@ pub fn export_surfaces(case: &Case, points: usize) -> Result<SurfaceExport> {
             x.iter().map(|&x| lo.height(x)).collect(),
         ],
         fitted: [
-            x.iter().map(|&x| geo.fit_upper.height_at(x)).collect(),
-            x.iter().map(|&x| geo.fit_lower.height_at(x)).collect(),
+            x.iter().map(|&x| geo.fit_upper.height_at(x, 0.0)).collect(),
+            x.iter().map(|&x| geo.fit_lower.height_at(x, 0.0)).collect(),
         ],
         rms: [surface_rms(up.as_ref(), w), surface_rms(lo.as_ref(), w)],
-        fit_max_error: [geo.fit_upper.max_error, geo.fit_lower.max_error],
-        fit_rms_error: [geo.fit_upper.rms_error, geo.fit_lower.rms_error],
+        fit_max_error: [geo.fit_upper.max_error(), geo.fit_lower.max_error()],
+        fit_rms_error: [geo.fit_upper.rms_error(), geo.fit_lower.rms_error()],
         description: [describe(&case.surface.upper), describe(&case.surface.lower)],
         x,
     })

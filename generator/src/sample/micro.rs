@@ -1,5 +1,6 @@
 //! The micro-sample model (spec §3, §5, paper Fig. 2 and 5): body 2 (lower)
-//! occupies `z ∈ [−H0, f2(x)]`, body 1 (upper) `z ∈ [f1(x) + g0, H0 + g0]`,
+//! occupies `z ∈ [−H0, f2(x)]`, body 1 (upper) `z ∈ [f1(x) + g0, H0 + g0]`
+//! (3D: `f(x, y)` on the cell `[0, W]²`, the height the last direction),
 //! with `g0` such that they first touch at zero load; bottom of body 2 fixed,
 //! rigid platen with `p̄N` on top of body 1 (held or free laterally, paper
 //! Sect. 5.3), LN or PR lateral faces, mortar
@@ -8,6 +9,7 @@
 //! prescribed temperature, the slave's external face under `h̄`.
 
 use crate::bulk::Coupling;
+use crate::geometry::fit::{ArealFit, fit_height_map, try_rough_volume};
 use crate::geometry::{
     FitMethod, NurbsPatch, RoughFace, Side, SurfaceFit, ThbPatch, fit_height_function,
     try_rough_block,
@@ -16,6 +18,7 @@ use crate::material::Material;
 use crate::sample::case::{Case, LateralCondition, MasterBody, TopLateral};
 use crate::solve::{Model, ModelBuilder, NonlinearProblem, Scales};
 use crate::surface::Surface;
+use crate::surface::areal::ArealSurface;
 use crate::{Error, Result};
 
 /// Index of the lower body (body 2) in the model.
@@ -27,11 +30,63 @@ pub const UPPER: usize = 1;
 #[derive(Clone, Debug)]
 pub struct SampleGeometry {
     /// Fit of the upper body's surface `f1`.
-    pub fit_upper: SurfaceFit,
+    pub fit_upper: SampleFit,
     /// Fit of the lower body's surface `f2`.
-    pub fit_lower: SurfaceFit,
+    pub fit_lower: SampleFit,
     /// Offset `g0` (m) that makes the bodies touch at zero load.
     pub g0: f64,
+}
+
+/// A fitted rough surface: a profile `z(x)` (2D) or a height map `z(x, y)` (3D).
+#[derive(Clone, Debug, PartialEq)]
+pub enum SampleFit {
+    /// B-spline graph curve (2D samples).
+    Profile(SurfaceFit),
+    /// Bivariate B-spline graph surface (3D samples).
+    Areal(ArealFit),
+}
+
+impl SampleFit {
+    /// The fitted height at `(x, y)` (m; `y` unused in 2D).
+    pub fn height_at(&self, x: f64, y: f64) -> f64 {
+        match self {
+            SampleFit::Profile(f) => f.height_at(x),
+            SampleFit::Areal(f) => f.height_at(x, y),
+        }
+    }
+
+    /// Largest height error of the fit (m).
+    pub fn max_error(&self) -> f64 {
+        match self {
+            SampleFit::Profile(f) => f.max_error,
+            SampleFit::Areal(f) => f.max_error,
+        }
+    }
+
+    /// RMS height error of the fit (m).
+    pub fn rms_error(&self) -> f64 {
+        match self {
+            SampleFit::Profile(f) => f.rms_error,
+            SampleFit::Areal(f) => f.rms_error,
+        }
+    }
+
+    /// The largest control height `max |h_i|` (m).
+    pub fn peak(&self) -> f64 {
+        let h = match self {
+            SampleFit::Profile(f) => &f.heights,
+            SampleFit::Areal(f) => &f.heights,
+        };
+        h.iter().fold(0.0f64, |m, z| m.max(z.abs()))
+    }
+
+    /// The profile fit (2D samples).
+    pub fn profile(&self) -> Option<&SurfaceFit> {
+        match self {
+            SampleFit::Profile(f) => Some(f),
+            SampleFit::Areal(_) => None,
+        }
+    }
 }
 
 /// Evaluates a fitted graph curve `z(x)` (B-spline, x linear in the parameter).
@@ -48,6 +103,65 @@ pub fn fitted_height(fit: &SurfaceFit, width: f64, x: f64) -> f64 {
 pub fn case_geometry(case: &Case) -> Result<SampleGeometry> {
     let (upper, lower) = case.surfaces()?;
     Ok(sample_geometry(case, upper.as_ref(), lower.as_ref()))
+}
+
+/// The sample's layout: spatial dimension and the element counts of the
+/// (upper, lower) bodies, lateral directions first, the height last.
+pub fn layout(case: &Case) -> (usize, Vec<usize>, Vec<usize>) {
+    let d = &case.discretization;
+    (2, d.elements_upper.to_vec(), d.elements_lower.to_vec())
+}
+
+/// Fits both height maps of a 3D sample at the discretization's resolution
+/// (elements `[nx, ny]` of each body) and finds `g0 = max (f2 − f1)`: the
+/// best of a dense grid, refined by a compass search.
+pub fn sample_geometry_3d(
+    case: &Case,
+    upper: &dyn ArealSurface,
+    lower: &dyn ArealSurface,
+) -> Result<SampleGeometry> {
+    let w = case.sample.width;
+    let p = case.discretization.degree;
+    let (_, nu, nl) = layout(case);
+    let fu = |x: f64, y: f64| upper.height(x, y);
+    let fl = |x: f64, y: f64| lower.height(x, y);
+    let fit_upper = fit_height_map(&fu, w, p, [nu[0], nu[1]])?;
+    let fit_lower = fit_height_map(&fl, w, p, [nl[0], nl[1]])?;
+    let gap = |x: f64, y: f64| fit_lower.height_at(x, y) - fit_upper.height_at(x, y);
+    let n = 16 * (nu[0].max(nu[1]).max(nl[0]).max(nl[1]) + 1);
+    let h = w / n as f64;
+    let (mut best, mut gb) = ([0.0, 0.0], f64::NEG_INFINITY);
+    for j in 0..=n {
+        for i in 0..=n {
+            let (x, y) = (h * i as f64, h * j as f64);
+            let g = gap(x, y);
+            if g > gb {
+                (best, gb) = ([x, y], g);
+            }
+        }
+    }
+    let mut step = h;
+    while step > 1e-12 * w {
+        let mut moved = false;
+        for d in [[1.0, 0.0], [-1.0, 0.0], [0.0, 1.0], [0.0, -1.0]] {
+            let c = [
+                (best[0] + step * d[0]).clamp(0.0, w),
+                (best[1] + step * d[1]).clamp(0.0, w),
+            ];
+            let g = gap(c[0], c[1]);
+            if g > gb {
+                (best, gb, moved) = (c, g, true);
+            }
+        }
+        if !moved {
+            step *= 0.5;
+        }
+    }
+    Ok(SampleGeometry {
+        fit_upper: SampleFit::Areal(fit_upper),
+        fit_lower: SampleFit::Areal(fit_lower),
+        g0: gb,
+    })
 }
 
 /// Fits both surfaces at the discretization's resolution and finds `g0`.
@@ -90,8 +204,8 @@ pub fn sample_geometry(case: &Case, upper: &dyn Surface, lower: &dyn Surface) ->
     }
     let g0 = gb.max(gap(0.5 * (a + b)));
     SampleGeometry {
-        fit_upper,
-        fit_lower,
+        fit_upper: SampleFit::Profile(fit_upper),
+        fit_lower: SampleFit::Profile(fit_lower),
         g0,
     }
 }
@@ -141,11 +255,16 @@ impl Bodies {
 pub fn case_bodies(case: &Case, geo: &SampleGeometry) -> Result<Bodies> {
     let h = case.sample.height;
     let d = &case.discretization;
+    let (_, nu, nl) = layout(case);
     // A surface taller than the body would fold it: a clear error naming
     // the key (random samples are only known here).
-    let block = |fit: &SurfaceFit, z: (f64, f64), face: RoughFace, n: usize| {
-        try_rough_block(fit, z.0, z.1, face, d.degree, n).map_err(|_| {
-            let peak = fit.heights.iter().fold(0.0f64, |m, z| m.max(z.abs()));
+    let block = |fit: &SampleFit, z: (f64, f64), face: RoughFace, n: usize| {
+        match fit {
+            SampleFit::Profile(f) => try_rough_block(f, z.0, z.1, face, d.degree, n),
+            SampleFit::Areal(f) => try_rough_volume(f, z.0, z.1, face, d.degree, n),
+        }
+        .map_err(|_| {
+            let peak = fit.peak();
             Error::invalid(
                 "sample.height",
                 format!("{h:e} m"),
@@ -161,17 +280,12 @@ pub fn case_bodies(case: &Case, geo: &SampleGeometry) -> Result<Bodies> {
             )
         })
     };
-    let lower_patch = block(
-        &geo.fit_lower,
-        (0.0, -h),
-        RoughFace::Top,
-        d.elements_lower[1],
-    )?;
+    let lower_patch = block(&geo.fit_lower, (0.0, -h), RoughFace::Top, nl[nl.len() - 1])?;
     let upper_patch = block(
         &geo.fit_upper,
         (geo.g0, h + geo.g0),
         RoughFace::Bottom,
-        d.elements_upper[1],
+        nu[nu.len() - 1],
     )?;
     let periodic = case.sample.lateral == LateralCondition::Periodic;
     Ok(Bodies {
@@ -204,14 +318,19 @@ pub fn place_at_first_touch(case: &Case, geo: &SampleGeometry, model: &mut Model
         // Start from the rigid bodies' equilibrium: the upper body slid to
         // the offset where it first touches lowest (Newton then corrects it
         // for elasticity, instead of sliding a wavelength fraction itself).
-        let s = model.scales.len(rigid_sliding_offset(case, geo));
+        // (3D: no rigid pre-slide yet; Newton slides from the reference.)
+        let s = match geo.fit_upper {
+            SampleFit::Profile(_) => model.scales.len(rigid_sliding_offset(case, geo)),
+            SampleFit::Areal(_) => 0.0,
+        };
         let nf = model.dim + 1;
         let b = &model.bodies[UPPER];
         for n in b.node_offset..b.node_offset + b.patch.n_control_points() {
             model.state[n * nf] = s;
         }
     }
-    model.touch(UPPER, 1)
+    let vertical = model.dim - 1;
+    model.touch(UPPER, vertical)
 }
 
 /// The micro-sample model on given bodies, in their reference positions
@@ -227,7 +346,11 @@ pub fn build_model_on(
     let w = case.sample.width;
     let d = &case.discretization;
     let (lower_patch, upper_patch) = (bodies.lower, bodies.upper);
-    let mut mb = ModelBuilder::new(2, Scales::new(w, materials.1));
+    // The height is the last direction (and displacement component): 1 in
+    // plane strain, 2 in 3D; the temperature is the field `dim`.
+    let dim = lower_patch.param_dim();
+    let hd = dim - 1;
+    let mut mb = ModelBuilder::new(dim, Scales::new(w, materials.1));
     if let Some(n) = d.bulk_points {
         mb = mb.bulk_points(n);
     }
@@ -235,17 +358,20 @@ pub fn build_model_on(
     let up = mb.add_body("upper", upper_patch, materials.0)?;
     debug_assert_eq!((lo, up), (LOWER, UPPER));
     // Mechanics (Fig. 5): bottom fixed, platen on top.
-    mb.fix_face(lo, 1, Side::Low, 0, 0.0);
-    mb.fix_face(lo, 1, Side::Low, 1, 0.0);
-    mb.platen(up, 1, Side::High, 1, 1.0);
-    match case.sample.lateral {
-        LateralCondition::Linear => {
-            mb.linear_lateral(lo, 0, 0);
-            mb.linear_lateral(up, 0, 0);
-        }
-        LateralCondition::Periodic => {
-            mb.periodic(lo, 0);
-            mb.periodic(up, 0);
+    for f in 0..dim {
+        mb.fix_face(lo, hd, Side::Low, f, 0.0);
+    }
+    mb.platen(up, hd, Side::High, hd, 1.0);
+    for lateral in 0..hd {
+        match case.sample.lateral {
+            LateralCondition::Linear => {
+                mb.linear_lateral(lo, lateral, lateral);
+                mb.linear_lateral(up, lateral, lateral);
+            }
+            LateralCondition::Periodic => {
+                mb.periodic(lo, lateral);
+                mb.periodic(up, lateral);
+            }
         }
     }
     // The top face laterally: held (no macroscopic sliding), or free. Free
@@ -254,26 +380,28 @@ pub fn build_model_on(
     // net tangential contact force vanishes (frictionless sliding, spec §5).
     let sliding = case.sample.lateral == LateralCondition::Periodic
         && case.sample.top_lateral == TopLateral::Free;
-    match case.sample.top_lateral {
-        TopLateral::Fixed => mb.fix_face(up, 1, Side::High, 0, 0.0),
-        TopLateral::Free if sliding => {
-            mb.sliding_platen(up, 1, Side::High, 0);
+    for lateral in 0..hd {
+        match case.sample.top_lateral {
+            TopLateral::Fixed => mb.fix_face(up, hd, Side::High, lateral, 0.0),
+            TopLateral::Free if sliding => {
+                mb.sliding_platen(up, hd, Side::High, lateral);
+            }
+            TopLateral::Free => {}
         }
-        TopLateral::Free => {}
     }
     // Thermal: θ̄c-projection (2.12); the nominal flux load is |h̄| (multiplier 1).
     let (master, slave) = match case.homogenization.master {
         MasterBody::Lower => ((lo, Side::Low), (up, Side::High)),
         MasterBody::Upper => ((up, Side::High), (lo, Side::Low)),
     };
-    mb.fix_face(master.0, 1, master.1, 2, bc.master_face_temperature);
+    mb.fix_face(master.0, hd, master.1, dim, bc.master_face_temperature);
     let into_slave = if slave.0 == UPPER { bc.flux } else { -bc.flux };
-    mb.flux(slave.0, 1, slave.1, into_slave);
+    mb.flux(slave.0, hd, slave.1, into_slave);
     mb.initial_temperature(case.load.contact_temperature);
     let period = (case.sample.lateral == LateralCondition::Periodic).then_some(w);
     let (cs, cm) = match case.homogenization.master {
-        MasterBody::Lower => ((up, 1, Side::Low), (lo, 1, Side::High)),
-        MasterBody::Upper => ((lo, 1, Side::High), (up, 1, Side::Low)),
+        MasterBody::Lower => ((up, hd, Side::Low), (lo, hd, Side::High)),
+        MasterBody::Upper => ((lo, hd, Side::High), (up, hd, Side::Low)),
     };
     mb.contact(cs, cm, &case.contact, period)?;
     mb.build(coupling)
@@ -306,7 +434,7 @@ pub fn first_touch_offset(geo: &SampleGeometry, width: f64, s: f64, samples: usi
     let gap = |x: f64| {
         let xl = x.rem_euclid(width);
         let xu = (x - s).rem_euclid(width);
-        fitted_height(&geo.fit_lower, width, xl) - fitted_height(&geo.fit_upper, width, xu)
+        geo.fit_lower.height_at(xl, 0.0) - geo.fit_upper.height_at(xu, 0.0)
     };
     let dx = width / samples as f64;
     let (mut xb, mut gb) = (0.0, f64::NEG_INFINITY);
@@ -397,19 +525,27 @@ pub fn measure(model: &Model, alpha: f64) -> Result<InterfaceMeasures> {
         .ok_or_else(|| Error::Geometry("the model has no contact interface".into()))?;
     let s = model.scales;
     let ns = c.n_slave();
-    // Contact fraction: the projected length of the contact zone, where the
-    // pressure indicator interpolated from the slave control points is
-    // positive (edges inside elements, [`crate::contact::mortar::ContactZone`]).
-    let xs: Vec<f64> = c.slave_nodes.iter().map(|&n| model.node_x(n)).collect();
-    let (lo, hi) = xs
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
-            (a.min(x), b.max(x))
-        });
-    let width = hi - lo;
+    // Contact fraction: the projected length (area in 3D) of the contact
+    // zone, where the pressure indicator interpolated from the slave control
+    // points is positive (edges inside elements,
+    // [`crate::contact::mortar::ContactZone`]), over the projected area
+    // |A| of the slave surface: the product of its reference extents along
+    // the lateral directions.
+    let width: f64 = (0..model.dim - 1)
+        .map(|d| {
+            let (lo, hi) = c
+                .slave_nodes
+                .iter()
+                .map(|&n| model.node_reference(n)[d])
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+                    (a.min(x), b.max(x))
+                });
+            hi - lo
+        })
+        .product();
     let contact = c.contact_length(&model.state);
     // [pN^α] (3.5): the integral over the rough reference surface divided by
-    // the *projected* area |A| (here the width).
+    // the *projected* area |A| (the width in 2D).
     let ppow: f64 = (0..ns)
         .map(|i| c.surface_area(i) * c.pressure(i).max(0.0).powf(alpha))
         .sum::<f64>()
@@ -419,7 +555,7 @@ pub fn measure(model: &Model, alpha: f64) -> Result<InterfaceMeasures> {
         .map(|i| c.weighted_jump(i).abs())
         .fold(0.0, f64::max);
     let pl = &model.platens()[0];
-    let top = model.bodies[UPPER].face_nodes(1, Side::High);
+    let top = model.bodies[UPPER].face_nodes(model.dim - 1, Side::High);
     let lateral_offset =
         top.iter().map(|&n| model.displacement(n, 0)).sum::<f64>() / top.len() as f64;
     Ok(InterfaceMeasures {
@@ -432,7 +568,7 @@ pub fn measure(model: &Model, alpha: f64) -> Result<InterfaceMeasures> {
     })
 }
 
-/// The net lateral force on the upper body (N per m of depth) when its top
+/// The net lateral force on the upper body along x (N per m of depth in 2D, N in 3D) when its top
 /// face slides freely (PR, `top_lateral = "free"`): the residual of the
 /// sliding platen's equation, i.e. the net tangential contact force, which
 /// equilibrium makes zero. `None` without a sliding platen or outside the
@@ -449,7 +585,8 @@ pub fn net_lateral_force(model: &mut Model) -> Result<Option<f64>> {
     model.prepare()?;
     let mut r = vec![0.0; model.n_eq()];
     model.assemble(None, &mut r)?;
-    Ok(Some(r[eq] * model.scales.stress * model.scales.length))
+    let area = model.scales.length.powi(model.dim as i32 - 1);
+    Ok(Some(r[eq] * model.scales.stress * area))
 }
 
 #[cfg(test)]

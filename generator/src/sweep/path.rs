@@ -90,8 +90,8 @@ pub fn sample_surfaces(case: &Case) -> Option<SampleSurfaces> {
     Some(SampleSurfaces {
         upper_rms: surface_rms(up.as_ref(), w),
         lower_rms: surface_rms(lo.as_ref(), w),
-        upper_fit_error: geo.fit_upper.max_error,
-        lower_fit_error: geo.fit_lower.max_error,
+        upper_fit_error: geo.fit_upper.max_error(),
+        lower_fit_error: geo.fit_lower.max_error(),
     })
 }
 

@@ -1,6 +1,10 @@
-//! Contact patch tests (paper Sect. 5.2, spec §10.2): two bodies with
-//! non-matching discretizations whose union is the block `[0, W] × [0, H]`,
-//! so that the exact fields are those of one homogeneous block.
+//! Contact patch tests (paper Sect. 5.2 and Fig. 9, spec §10.2): two bodies
+//! with non-matching discretizations whose union is the block `[0, W] × [0,
+//! H]` (2D) or `[0, W]² × [0, H]` (3D, [`PatchSetup::dimension`]), so that
+//! the exact fields are those of one homogeneous block. In 3D each body is
+//! the 2D body extruded along y (the interface a flat plane or a circular
+//! cylinder), with as many elements and the same degree along y as along x;
+//! the height is the last direction (z).
 //!
 //! - **Thermal** (zero pressure): the thermal phase on the undeformed
 //!   configuration with every slave control point in the (frozen) active set,
@@ -31,7 +35,7 @@ use crate::contact::{
 use crate::geometry::{KnotVector, NurbsPatch, Side, ThbPatch, shapes};
 use crate::material::Material;
 use crate::sample::micro::interface_refined;
-use crate::solve::{LoadStepping, ModelBuilder, Newton, NewtonSettings, Scales};
+use crate::solve::{LoadStepping, Model, ModelBuilder, Newton, NewtonSettings, Scales};
 
 /// The three control points of a degree-2 curve with one span.
 type Curve = [[f64; 3]; 3];
@@ -78,6 +82,8 @@ pub struct PatchSetup {
     pub upper: Refinement,
     /// Bulk Gauss points per direction (default `p + 2`).
     pub bulk_points: Option<usize>,
+    /// Spatial dimension: 2 (plane strain) or 3 (extruded along y).
+    pub dimension: usize,
 }
 
 impl PatchSetup {
@@ -104,6 +110,15 @@ impl PatchSetup {
                 interface_levels: 0,
             },
             bulk_points: None,
+            dimension: 2,
+        }
+    }
+
+    /// [`PatchSetup::new`] in 3D.
+    pub fn new_3d(interface: Interface) -> Self {
+        PatchSetup {
+            dimension: 3,
+            ..PatchSetup::new(interface)
         }
     }
 
@@ -157,13 +172,23 @@ impl PatchSetup {
             if r.degree_y > 1 {
                 g = g.elevate_degree(1, r.degree_y - 1);
             }
-            g.refine_uniform(0, r.elements)
-                .refine_uniform(1, r.elements_y)
+            g = g
+                .refine_uniform(0, r.elements)
+                .refine_uniform(1, r.elements_y);
+            if self.dimension == 3 {
+                g = extruded(&g, self.width, r.degree, r.elements);
+            }
+            g
         };
         (
             ruled(bottom, middle, &self.lower),
             ruled(middle, top, &self.upper),
         )
+    }
+
+    /// The height direction (and the vertical displacement component).
+    pub fn height_dir(&self) -> usize {
+        self.dimension - 1
     }
 
     /// The (lower, upper) bodies as analysed: [`Self::patches`] with their
@@ -175,7 +200,34 @@ impl PatchSetup {
             interface_refined(&upper, Side::Low, self.upper.interface_levels, false),
         )
     }
+}
 
+/// The 2D patch `g` (x along the interface, y through the height) extruded
+/// over `[0, width]` along a new y, which becomes direction 1, the height
+/// direction 2; degree `degree` and `elements` elements along the new y.
+fn extruded(g: &NurbsPatch, width: f64, degree: usize, elements: usize) -> NurbsPatch {
+    let kv = g.knots();
+    let (n0, n1) = (kv[0].n_basis(), kv[1].n_basis());
+    let ky = KnotVector::open_uniform(1, 1, 0.0, 1.0);
+    let (mut points, mut weights) = (Vec::new(), Vec::new());
+    for k in 0..n1 {
+        for y in [0.0, width] {
+            for i in 0..n0 {
+                let x = g.control_points()[k * n0 + i];
+                points.push([x[0], y, x[1]]);
+                weights.push(g.weights()[k * n0 + i]);
+            }
+        }
+    }
+    let mut e = NurbsPatch::new(vec![kv[0].clone(), ky, kv[1].clone()], points, weights)
+        .expect("valid extruded patch");
+    if degree > 1 {
+        e = e.elevate_degree(1, degree - 1);
+    }
+    e.refine_uniform(1, elements)
+}
+
+impl PatchSetup {
     /// Table I with a constant conductivity.
     pub fn material() -> Material {
         Material {
@@ -221,17 +273,18 @@ pub fn thermal_patch(
 ) -> Result<ThermalPatch> {
     let m = PatchSetup::material();
     let (lower, upper) = setup.bodies();
-    let mut b = ModelBuilder::new(2, Scales::new(setup.width, &m));
+    let (dim, hd) = (setup.dimension, setup.height_dir());
+    let mut b = ModelBuilder::new(dim, Scales::new(setup.width, &m));
     if let Some(n) = setup.bulk_points {
         b = b.bulk_points(n);
     }
     let lo = b.add_body("lower", lower, &m)?;
     let up = b.add_body("upper", upper, &m)?;
     let theta0 = m.reference_temperature;
-    b.fix_face(lo, 1, Side::Low, 2, theta0);
-    b.flux(up, 1, Side::High, flux);
+    b.fix_face(lo, hd, Side::Low, dim, theta0);
+    b.flux(up, hd, Side::High, flux);
     b.initial_temperature(theta0);
-    b.contact((up, 1, Side::Low), (lo, 1, Side::High), settings, None)?;
+    b.contact((up, hd, Side::Low), (lo, hd, Side::High), settings, None)?;
     let mut model = b.build(Coupling::Thermal)?;
     // Zero pressure: every slave point in contact, the configuration undeformed.
     let c = model.contact.as_mut().expect("contact set above");
@@ -245,9 +298,9 @@ pub fn thermal_patch(
     let h_bar = s.heat(flux);
     let normals: Vec<f64> = model.bodies[UPPER]
         .patch
-        .face_quadrature(1, Side::Low, settings.interface_points)
+        .face_quadrature(hd, Side::Low, settings.interface_points)
         .iter()
-        .flat_map(|e| e.points.iter().map(|p| p.normal[1]).collect::<Vec<_>>())
+        .flat_map(|e| e.points.iter().map(|p| p.normal[hd]).collect::<Vec<_>>())
         .collect();
     let mut balance = vec![0.0; c.n_slave()];
     for (q, sp) in c.points.iter().enumerate() {
@@ -282,13 +335,14 @@ pub fn thermal_patch(
     for body in &model.bodies {
         for eq in &body.quadrature {
             for qp in &eq.points {
-                let mut g = [0.0; 2];
+                let mut g = [0.0; 3];
                 for (a, &cn) in eq.conn.iter().enumerate() {
-                    let th = model.state[(cn + body.node_offset) * 3 + 2];
-                    g[0] += qp.dr_dx[a][0] * th;
-                    g[1] += qp.dr_dx[a][1] * th;
+                    let th = model.state[(cn + body.node_offset) * (dim + 1) + dim];
+                    for (d, gd) in g.iter_mut().enumerate().take(dim) {
+                        *gd += qp.dr_dx[a][d] * th;
+                    }
                 }
-                let q = k_scaled * (g[0] * g[0] + g[1] * g[1]).sqrt();
+                let q = k_scaled * (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
                 bulk_flux_deviation = bulk_flux_deviation.max((q - h_bar).abs() / h_bar);
             }
         }
@@ -308,7 +362,7 @@ pub fn thermal_patch(
     for body in [LOWER, UPPER] {
         let bd = &model.bodies[body];
         for (i, x) in bd.patch.control_points().iter().enumerate() {
-            let exact = theta0 + flux * x[1] * s.length / k;
+            let exact = theta0 + flux * x[hd] * s.length / k;
             let t = model.temperature(bd.node_offset + i);
             temperature_error = temperature_error.max((t - exact).abs());
         }
@@ -348,28 +402,7 @@ pub fn mechanical_patch(
     integration: Integration,
 ) -> Result<MechanicalPatch> {
     let m = PatchSetup::material();
-    let (lower, upper) = setup.bodies();
-    let mut b = ModelBuilder::new(2, Scales::new(setup.width, &m));
-    let lo = b.add_body("lower", lower, &m)?;
-    let up = b.add_body("upper", upper, &m)?;
-    b.fix_face(lo, 1, Side::Low, 0, 0.0);
-    b.fix_face(lo, 1, Side::Low, 1, 0.0);
-    b.linear_lateral(lo, 0, 0);
-    b.linear_lateral(up, 0, 0);
-    b.platen(up, 1, Side::High, 1, pressure);
-    b.initial_temperature(m.reference_temperature);
-    b.contact(
-        (up, 1, Side::Low),
-        (lo, 1, Side::High),
-        &ContactSettings {
-            interface_points,
-            integration,
-            ..ContactSettings::default()
-        },
-        None,
-    )?;
-    let mut model = b.build(Coupling::Mechanical)?;
-    model.touch(up, 1)?;
+    let mut model = mechanical_model(setup, pressure, interface_points, integration)?;
     let hist = newton().solve(&mut model)?;
     let s = model.scales;
     let c = model.contact.as_ref().expect("contact set above");
@@ -391,6 +424,44 @@ pub fn mechanical_patch(
         displacement_error: (u - exact).abs() / exact.abs(),
         iterations: hist.total_iterations(),
     })
+}
+
+/// The model of the mechanical patch test at first touch, unsolved (the
+/// platen pressure at load factor 1).
+pub fn mechanical_model(
+    setup: &PatchSetup,
+    pressure: f64,
+    interface_points: usize,
+    integration: Integration,
+) -> Result<Model> {
+    let m = PatchSetup::material();
+    let (lower, upper) = setup.bodies();
+    let (dim, hd) = (setup.dimension, setup.height_dir());
+    let mut b = ModelBuilder::new(dim, Scales::new(setup.width, &m));
+    let lo = b.add_body("lower", lower, &m)?;
+    let up = b.add_body("upper", upper, &m)?;
+    for f in 0..dim {
+        b.fix_face(lo, hd, Side::Low, f, 0.0);
+    }
+    for d in 0..hd {
+        b.linear_lateral(lo, d, d);
+        b.linear_lateral(up, d, d);
+    }
+    b.platen(up, hd, Side::High, hd, pressure);
+    b.initial_temperature(m.reference_temperature);
+    b.contact(
+        (up, hd, Side::Low),
+        (lo, hd, Side::High),
+        &ContactSettings {
+            interface_points,
+            integration,
+            ..ContactSettings::default()
+        },
+        None,
+    )?;
+    let mut model = b.build(Coupling::Mechanical)?;
+    model.touch(up, hd)?;
+    Ok(model)
 }
 
 fn newton() -> Newton {
