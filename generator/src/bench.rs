@@ -840,8 +840,8 @@ fn sect57_case(elements: usize, pressure: f64, target: Option<f64>) -> Result<cr
         std::path::Path::new("."),
     )?;
     let d = &mut case.discretization;
-    d.elements_upper = [elements, elements / 2];
-    d.elements_lower = [elements * 27 / 32, (elements * 14).div_ceil(32)];
+    d.elements_upper = [elements, elements / 2].into();
+    d.elements_lower = [elements * 27 / 32, (elements * 14).div_ceil(32)].into();
     d.target_error = target;
     d.max_levels = crate::sample::case::MAX_LEVELS;
     case.load.pressures = vec![pressure];

@@ -103,6 +103,11 @@ enum Command {
         allow_failures: bool,
     },
     /// Write the surfaces of a case (or of one sample of a sweep) as CSV with their NURBS fit error.
+    ///
+    /// A 3D case writes one body (--body upper, the default, or lower) on the
+    /// points x points grid in the height-map format (one line per y row,
+    /// heights in m): its NURBS fit at the case's discretization, or with
+    /// --exact the surface itself.
     Surface {
         /// A case file, or a sweep file (its seed; --sample picks the sample).
         case: std::path::PathBuf,
@@ -115,12 +120,15 @@ enum Command {
         /// Seed of random surfaces (default: the file's).
         #[arg(long)]
         seed: Option<u64>,
-        /// Abscissae per period.
-        #[arg(long, default_value_t = 1024)]
-        points: usize,
-        /// Which surfaces: both (x,upper,lower,upper_fit,lower_fit) or one (x,z, importable as kind = "profile").
+        /// Abscissae per period (3D: grid points per direction; default 1024 in 2D, 256 in 3D).
+        #[arg(long)]
+        points: Option<usize>,
+        /// Which surfaces: both (x,upper,lower,upper_fit,lower_fit) or one (x,z, importable as kind = "profile"); 3D: upper (default) or lower.
         #[arg(long, value_enum, default_value_t = BodyArg::Both)]
         body: BodyArg,
+        /// 3D: write the surface's own heights instead of its NURBS fit.
+        #[arg(long)]
+        exact: bool,
     },
     /// Write the contact law of a table for macroscale codes: an ensemble
     /// statistic of the jump, its spread and its discretization error, the
@@ -329,16 +337,53 @@ fn merge(shards: &[std::path::PathBuf], output: &std::path::Path, allow: bool) -
     }
 }
 
-fn surface(
-    path: &std::path::Path,
-    output: &std::path::Path,
+/// The options of `tcgen surface` other than the paths.
+struct SurfaceArgs {
     sample: Option<u64>,
     seed: Option<u64>,
-    points: usize,
+    points: Option<usize>,
     body: BodyArg,
-) -> ExitCode {
+    exact: bool,
+}
+
+/// `tcgen surface` on a 3D case: one body's height map.
+fn surface_3d(
+    case: &tcgen::sample::Case,
+    output: &std::path::Path,
+    a: &SurfaceArgs,
+) -> tcgen::Result<()> {
+    use tcgen::io::surface_csv::{export_heightmap, write_heightmap_csv};
+    let points = a.points.unwrap_or(256);
+    let body = usize::from(matches!(a.body, BodyArg::Lower));
+    let e = export_heightmap(case, points, body, !a.exact)?;
+    write_heightmap_csv(&e, output)?;
+    let d = &case.discretization;
+    for (b, (name, n)) in [("upper", &d.elements_upper), ("lower", &d.elements_lower)]
+        .into_iter()
+        .enumerate()
+    {
+        println!(
+            "{name}: rms {:.4e} m; NURBS fit ({} x {} elements, degree {}) error max {:.3e} m, rms {:.3e} m",
+            e.rms[b],
+            n.along(0),
+            n.along(1),
+            d.degree,
+            e.fit_max_error[b],
+            e.fit_rms_error[b]
+        );
+    }
+    println!(
+        "wrote {}: the {} surface{} on a {points} x {points} grid (height map: one line per y row, m)",
+        output.display(),
+        ["upper", "lower"][body],
+        if a.exact { "" } else { "'s NURBS fit" }
+    );
+    Ok(())
+}
+
+fn surface(path: &std::path::Path, output: &std::path::Path, a: &SurfaceArgs) -> ExitCode {
     use tcgen::io::surface_csv::{Bodies, export_surfaces, write_surface_csv};
-    use tcgen::surface::SurfaceSpec;
+    let (sample, seed, body) = (a.sample, a.seed, a.body);
     let result = (|| -> tcgen::Result<()> {
         let text = tcgen::error::read_text(path)?;
         let is_sweep = toml::from_str::<toml::Table>(&text)
@@ -350,7 +395,7 @@ fn surface(
             tcgen::sample::Case::read(path)?
         };
         for s in [&mut case.surface.upper, &mut case.surface.lower] {
-            if let SurfaceSpec::Random(r) = s {
+            if let Some(r) = s.random_mut() {
                 if let Some(k) = sample {
                     r.sample = Some(k);
                 }
@@ -359,6 +404,17 @@ fn surface(
                 }
             }
         }
+        if case.dimension() == 3 {
+            return surface_3d(&case, output, a);
+        }
+        if a.exact {
+            return Err(tcgen::Error::invalid(
+                "--exact",
+                "given",
+                "absent for a 2D case (its CSV holds the surfaces and their fits)",
+            ));
+        }
+        let points = a.points.unwrap_or(1024);
         let e = export_surfaces(&case, points)?;
         let bodies = match body {
             BodyArg::Both => Bodies::Both,
@@ -371,9 +427,9 @@ fn surface(
                 "{name}: rms {:.4e} m; NURBS fit ({} elements, degree {}) error max {:.3e} m, rms {:.3e} m",
                 e.rms[b],
                 if b == 0 {
-                    case.discretization.elements_upper[0]
+                    case.discretization.elements_upper.along(0)
                 } else {
-                    case.discretization.elements_lower[0]
+                    case.discretization.elements_lower.along(0)
                 },
                 case.discretization.degree,
                 e.fit_max_error[b],
@@ -605,9 +661,19 @@ fn check(file: &std::path::Path, threads: Option<usize>) -> ExitCode {
     println!("{resolved}");
     let e = resources::estimate(&case);
     let d = &case.discretization;
+    let dim = case.dimension();
     println!(
-        "# unknowns: {} (upper body {} and lower body {} control points x 3 fields, contact multipliers)",
-        e.unknowns, e.control_points[0], e.control_points[1]
+        "# dimension {dim}: elements upper {}, lower {} ({})",
+        d.elements_upper,
+        d.elements_lower,
+        if dim == 3 { "[nx, ny, nz]" } else { "[nx, nz]" }
+    );
+    println!(
+        "# unknowns: {} (upper body {} and lower body {} control points x {} fields, contact multipliers)",
+        e.unknowns,
+        e.control_points[0],
+        e.control_points[1],
+        dim + 1
     );
     println!(
         "# estimated memory: {} per solve{}",
@@ -626,7 +692,7 @@ fn check(file: &std::path::Path, threads: Option<usize>) -> ExitCode {
             "# adaptive (target_error {}): meshes grow up to max_dofs = {} unknowns, about {} per solve at that size",
             d.target_error.unwrap_or_default(),
             d.max_dofs,
-            format_bytes(resources::memory_for(d.max_dofs, d.degree, 2))
+            format_bytes(resources::memory_for(d.max_dofs, d.degree, dim))
         );
     }
     match resources::memory_limit() {
@@ -931,7 +997,18 @@ fn main() -> ExitCode {
             seed,
             points,
             body,
-        } => surface(&case, &output, sample, seed, points, body),
+            exact,
+        } => surface(
+            &case,
+            &output,
+            &SurfaceArgs {
+                sample,
+                seed,
+                points,
+                body,
+                exact,
+            },
+        ),
         Command::Check { file, threads } => check(&file, threads),
         Command::Law {
             table,

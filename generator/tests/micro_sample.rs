@@ -69,8 +69,8 @@ fn two_phase_master_choice_difference_shrinks_under_refinement() {
     let diff = |scale: usize| -> Vec<f64> {
         let run = |master: &str| {
             let mut c = case("two-phase", master);
-            c.discretization.elements_upper = [12 * scale, 6 * scale];
-            c.discretization.elements_lower = [10 * scale, 5 * scale];
+            c.discretization.elements_upper = [12 * scale, 6 * scale].into();
+            c.discretization.elements_lower = [10 * scale, 5 * scale].into();
             solve_case(&c, None, |_| {}).unwrap()
         };
         let (l, u) = (run("lower"), run("upper"));

@@ -105,7 +105,8 @@ fn surface_writes_the_sample_of_a_sweep() {
     );
     let w = cfg.case.sample.width;
     let profile = Profile::read(&csv, w, "csv").unwrap();
-    let SurfaceSpec::Random(spec) = cfg.path_case(3, 0, 0).surface.lower else {
+    let Some(SurfaceSpec::Random(spec)) = cfg.path_case(3, 0, 0).surface.lower.profile().cloned()
+    else {
         panic!("lower surface is random")
     };
     let s = spec.generate("surface.lower", w);
@@ -214,4 +215,122 @@ fn check_prints_the_resolved_case_and_refuses_what_cannot_fit() {
         .unwrap();
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("TCGEN_MEMORY_LIMIT"));
+}
+
+/// Issue 12: `tcgen check` takes a 3D case (the dimension and three element
+/// counts in the resolved configuration); `solve` and `sweep` run it in 3D
+/// (a coarse egg box) and the table and the law record the dimension and the
+/// cell; `surface` writes its height map.
+#[test]
+fn a_3d_case_is_checked_solved_tabled_and_mapped() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let case = root.join("tables/egg_box_on_flat.toml");
+    let tcgen = || Command::new(env!("CARGO_BIN_EXE_tcgen"));
+    let o = tcgen().arg("check").arg(&case).output().unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success(),
+        "{out}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    for needle in [
+        "dimension = 3",
+        "elements_upper = [8, 8, 4]",
+        "elements_lower = [7, 7, 4]",
+        "pattern = \"egg-box\"",
+        "# dimension 3: elements upper [8, 8, 4], lower [7, 7, 4] ([nx, ny, nz])",
+        "control points x 4 fields",
+        "# ok",
+    ] {
+        assert!(out.contains(needle), "{needle:?} not in {out}");
+    }
+    let o = tcgen()
+        .arg("check")
+        .arg(root.join("tables/sinusoid_on_flat.toml"))
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        out.contains("dimension = 2") && out.contains("x 3 fields"),
+        "{out}"
+    );
+    let dir = scratch("cli-3d");
+    let text = std::fs::read_to_string(&case).unwrap();
+    let coarse = text
+        .replace("elements_upper = [8, 8, 4]", "elements_upper = [3, 3, 1]")
+        .replace("elements_lower = [7, 7, 4]", "elements_lower = [2, 2, 1]");
+    let head = coarse.split("[load]").next().unwrap().to_string();
+    let solve_case = dir.join("egg_box.toml");
+    std::fs::write(
+        &solve_case,
+        head.clone() + "[load]\npressures = [1.0e5]\nflux = 1.0e6\ncontact_temperature = 293.15\n",
+    )
+    .unwrap();
+    let o = tcgen()
+        .args(["solve", "--json"])
+        .arg(&solve_case)
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let row: serde_json::Value = serde_json::from_str(out.lines().next().unwrap()).unwrap();
+    assert_eq!(row["status"], "converged", "{out}");
+    let jump = row["jump"].as_f64().unwrap();
+    let fraction = row["contact_fraction"].as_f64().unwrap();
+    assert!(jump > 0.0 && jump < 20.0, "{out}");
+    assert!(fraction > 0.05 && fraction < 0.6, "{out}");
+    let sweep = dir.join("egg_box_sweep.toml");
+    std::fs::write(
+        &sweep,
+        head + "[sweep]\npressures = [1.0e5]\nfluxes = 1.0e6\ncontact_temperatures = 293.15\n",
+    )
+    .unwrap();
+    let table = dir.join("t.h5");
+    let o = tcgen()
+        .args(["sweep", "--progress", "quiet", "-o"])
+        .arg(&table)
+        .arg(&sweep)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let t = tcgen::io::read_table(&table).unwrap();
+    let p = t.points[0].values.expect("converged");
+    assert!((p.jump - jump).abs() < 1e-9 * jump, "{} vs {jump}", p.jump);
+    let law = dir.join("t.tclaw");
+    let o = tcgen()
+        .arg("law")
+        .arg("-o")
+        .arg(&law)
+        .arg(&table)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let law = lookup::Law::open(&law).unwrap();
+    let prov = &law.info().provenance;
+    let get = |k: &str| {
+        prov.iter()
+            .find(|(key, _)| key == k)
+            .map(|(_, v)| v.as_str())
+    };
+    assert_eq!(get("dimension"), Some("3"));
+    assert_eq!(get("cell_size"), Some("1e-5 1e-5"));
+    let map = dir.join("egg_box.csv");
+    let o = tcgen()
+        .args(["surface", "--points", "32", "-o"])
+        .arg(&map)
+        .arg(&case)
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        out.contains("NURBS fit (8 x 8 elements, degree 2)"),
+        "{out}"
+    );
+    let heights = tcgen::surface::HeightMap::read(&map, 1.0e-5, "map").unwrap();
+    assert_eq!(heights.size(), (32, 32));
+    // The crest of the fitted egg-box at the origin: 2·rms, up to the fit.
+    use tcgen::surface::ArealSurface;
+    let crest = heights.height(0.0, 0.0) + heights.removed_mean;
+    assert!((crest - 2.0e-6).abs() < 0.05e-6, "{crest}");
 }

@@ -14,6 +14,7 @@ use std::process::Command;
 use support::*;
 use tcgen::io::netcdf::FILL_DOUBLE;
 use tcgen::io::{PointStatus, read_table};
+use tcgen::sample::case::BodySurface;
 use tcgen::surface::SurfaceSpec;
 use tcgen::sweep::{ProgressMode, Shard, SweepOptions, merge_tables, run_sweep};
 
@@ -91,8 +92,8 @@ fn failed_points_are_masked_counted_and_refused_by_law() {
     // The surfaces of every sample are those of (seed, sample), on any split.
     for s in 0..3 {
         let case = cfg.path_case(s, 0, 0);
-        let rms = |spec: &SurfaceSpec, key: &str| match spec {
-            SurfaceSpec::Random(r) => r.generate(key, 1.0e-5).rms(),
+        let rms = |spec: &BodySurface, key: &str| match spec.profile() {
+            Some(SurfaceSpec::Random(r)) => r.generate(key, 1.0e-5).rms(),
             _ => unreachable!(),
         };
         let m = t.surfaces[s].unwrap();

@@ -16,8 +16,8 @@ use tcgen::sample::vtk::VtkSeries;
 fn case(method: Method, pressures: &[f64]) -> Case {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tables/sinusoid_on_flat.toml");
     let mut c = Case::read(&path).unwrap();
-    c.discretization.elements_upper = [12, 6];
-    c.discretization.elements_lower = [10, 5];
+    c.discretization.elements_upper = [12, 6].into();
+    c.discretization.elements_lower = [10, 5].into();
     c.homogenization.method = method;
     c.load.pressures = pressures.to_vec();
     c

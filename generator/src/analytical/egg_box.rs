@@ -71,7 +71,10 @@ mod tests {
         let c = 2.0 * PI * (3.0 * 2f64.sqrt() / (32.0 * PI)).powf(2.0 / 3.0);
         for r in [1e-3, 0.02, 0.1] {
             let f = hertz_contact_fraction(e, d, l, r * ps);
-            assert!((f / (c * r.powf(2.0 / 3.0)) - 1.0).abs() < 1e-12, "{r}: {f}");
+            assert!(
+                (f / (c * r.powf(2.0 / 3.0)) - 1.0).abs() < 1e-12,
+                "{r}: {f}"
+            );
         }
         assert!((c - 0.7617).abs() < 1e-3, "{c}");
     }

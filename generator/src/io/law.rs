@@ -291,7 +291,7 @@ pub fn law_from_table_with(t: &Table, source: &str, options: &LawOptions) -> Res
         Statistic::Deterministic
     };
     let i = &t.info;
-    let provenance = vec![
+    let mut provenance = vec![
         ("generator".into(), provenance::generator()),
         ("git_revision".into(), one_line(&i.git_revision)),
         ("source".into(), one_line(source)),
@@ -308,6 +308,11 @@ pub fn law_from_table_with(t: &Table, source: &str, options: &LawOptions) -> Res
         ("samples".into(), ns.to_string()),
         ("created".into(), provenance::utc_now()),
     ];
+    if let Some((dimension, cell)) = crate::io::table::sample_cell(&i.config) {
+        let cell: Vec<String> = cell.iter().map(|w| format!("{w:e}")).collect();
+        provenance.push(("dimension".into(), dimension.to_string()));
+        provenance.push(("cell_size".into(), cell.join(" ")));
+    }
     let info = LawInfo {
         statistic,
         extrapolation: options.extrapolation,

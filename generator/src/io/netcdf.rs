@@ -444,6 +444,10 @@ pub fn table_to_bytes(t: &Table) -> Result<Vec<u8>> {
     w.global("source", NcAttrValue::Chars(i.source.clone()))?;
     w.global("config_sha256", NcAttrValue::Chars(i.config_sha256.clone()))?;
     w.global("seed", NcAttrValue::Int64s(vec![i.seed as i64]))?;
+    if let Some((dimension, cell)) = crate::io::table::sample_cell(&i.config) {
+        w.global("dimension", NcAttrValue::Ints(vec![dimension as i32]))?;
+        w.global("cell_size", NcAttrValue::Doubles(cell))?;
+    }
     w.global("samples", NcAttrValue::Ints(vec![ns as i32]))?;
     w.global(
         "identification",

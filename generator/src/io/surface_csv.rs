@@ -4,11 +4,18 @@
 //! Both bodies: `x,upper,lower,upper_fit,lower_fit` (m). One body
 //! (`--body`): `x,z`, which `kind = "profile"` imports back. The header is the
 //! first line; `#` lines after it give the RMS and the fit errors.
+//!
+//! A 3D case writes one body's heights on the `n × n` grid `(i W/n, j W/n)`
+//! in the height-map format that `kind = "heightmap"` imports back: one line
+//! per y row, `n` comma-separated heights in m, no header
+//! ([`export_heightmap`]).
 
 use std::fmt::Write as _;
 use std::path::Path;
 
+use crate::geometry::fit_height_map;
 use crate::sample::Case;
+use crate::sample::case::BodySurface;
 use crate::sample::micro::sample_geometry;
 use crate::sweep::path::surface_rms;
 use crate::{Error, Result};
@@ -41,16 +48,6 @@ pub fn export_surfaces(case: &Case, points: usize) -> Result<SurfaceExport> {
     let (up, lo) = case.surfaces()?;
     let geo = sample_geometry(case, up.as_ref(), lo.as_ref());
     let x: Vec<f64> = (0..points).map(|j| w * j as f64 / points as f64).collect();
-    let describe = |s: &crate::surface::SurfaceSpec| {
-        toml::Value::try_from(s)
-            .map(|v| {
-                v.to_string()
-                    .replace('\n', ", ")
-                    .trim_end_matches([',', ' '])
-                    .to_string()
-            })
-            .unwrap_or_default()
-    };
     Ok(SurfaceExport {
         heights: [
             x.iter().map(|&x| up.height(x)).collect(),
@@ -66,6 +63,111 @@ pub fn export_surfaces(case: &Case, points: usize) -> Result<SurfaceExport> {
         description: [describe(&case.surface.upper), describe(&case.surface.lower)],
         x,
     })
+}
+
+/// A surface's keys on one line.
+fn describe(s: &BodySurface) -> String {
+    toml::Value::try_from(s)
+        .map(|v| {
+            v.to_string()
+                .replace('\n', ", ")
+                .trim_end_matches([',', ' '])
+                .to_string()
+        })
+        .unwrap_or_default()
+}
+
+/// One body's surface of a 3D case on the `n × n` grid, and the measures of both.
+#[derive(Clone, Debug)]
+pub struct ArealExport {
+    /// Grid points per direction `n`.
+    pub points: usize,
+    /// The body written: 0 upper, 1 lower.
+    pub body: usize,
+    /// Whether `heights` are the NURBS fit's (else the surface's own).
+    pub fitted: bool,
+    /// Heights at `(i W/n, j W/n)` (m), row `j` after row, `i` fastest.
+    pub heights: Vec<f64>,
+    /// RMS of the surfaces on the grid `[upper, lower]` (m).
+    pub rms: [f64; 2],
+    /// Largest fit error `[upper, lower]` (m), on the fit's dense sample.
+    pub fit_max_error: [f64; 2],
+    /// RMS fit error `[upper, lower]` (m).
+    pub fit_rms_error: [f64; 2],
+    /// Description of each surface (its keys).
+    pub description: [String; 2],
+}
+
+/// Samples the areal surface of `body` (0 upper, 1 lower) of a 3D case on
+/// the `points × points` grid: its bivariate B-spline fit at the case's
+/// discretization (degree, lateral element counts) if `fitted`, else the
+/// surface itself; both bodies' RMS and fit errors are measured.
+pub fn export_heightmap(
+    case: &Case,
+    points: usize,
+    body: usize,
+    fitted: bool,
+) -> Result<ArealExport> {
+    if points < 4 {
+        return Err(Error::invalid("--points", points, "at least 4"));
+    }
+    let w = case.sample.width;
+    let d = &case.discretization;
+    let (up, lo) = case.areal_surfaces()?;
+    let surfaces = [up, lo];
+    let mut fits = Vec::new();
+    for (s, e) in surfaces.iter().zip([&d.elements_upper, &d.elements_lower]) {
+        let f = |x: f64, y: f64| s.height(x, y);
+        fits.push(fit_height_map(&f, w, d.degree, [e.along(0), e.along(1)])?);
+    }
+    let grid = |z: &dyn Fn(f64, f64) -> f64| -> Vec<f64> {
+        (0..points * points)
+            .map(|k| {
+                let (i, j) = (k % points, k / points);
+                z(w * i as f64 / points as f64, w * j as f64 / points as f64)
+            })
+            .collect()
+    };
+    let rms = |h: &[f64]| {
+        let n = h.len() as f64;
+        let mean = h.iter().sum::<f64>() / n;
+        (h.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n).sqrt()
+    };
+    let exact = [
+        grid(&|x, y| surfaces[0].height(x, y)),
+        grid(&|x, y| surfaces[1].height(x, y)),
+    ];
+    let heights = if fitted {
+        grid(&|x, y| fits[body].height_at(x, y))
+    } else {
+        exact[body].clone()
+    };
+    Ok(ArealExport {
+        points,
+        body,
+        fitted,
+        heights,
+        rms: [rms(&exact[0]), rms(&exact[1])],
+        fit_max_error: [fits[0].max_error, fits[1].max_error],
+        fit_rms_error: [fits[0].rms_error, fits[1].rms_error],
+        description: [describe(&case.surface.upper), describe(&case.surface.lower)],
+    })
+}
+
+/// The height-map CSV of an areal export: one line per y row.
+pub fn heightmap_csv(e: &ArealExport) -> String {
+    let mut s = String::new();
+    for row in e.heights.chunks(e.points) {
+        let line: Vec<String> = row.iter().map(|z| format!("{z:e}")).collect();
+        s.push_str(&line.join(","));
+        s.push('\n');
+    }
+    s
+}
+
+/// Writes the height-map CSV of an areal export atomically.
+pub fn write_heightmap_csv(e: &ArealExport, path: &Path) -> Result<()> {
+    crate::io::atomic::write_atomic(path, heightmap_csv(e).as_bytes())
 }
 
 /// Which surfaces to write.
@@ -151,5 +253,60 @@ kind = "flat"
         let both = surface_csv(&e, Bodies::Both);
         assert!(both.starts_with("x,upper,lower,upper_fit,lower_fit\n# upper: "));
         assert_eq!(both.lines().filter(|l| !l.starts_with('#')).count(), 257);
+    }
+
+    /// A 3D case: one body's fitted or exact heights on the grid, in the
+    /// height-map format that `kind = "heightmap"` reads back.
+    #[test]
+    fn an_areal_surface_round_trips_through_heightmap_import() {
+        use crate::surface::{ArealSurface, HeightMap};
+        let case = Case::from_toml(
+            "[sample]\ndimension = 3\n[surface.upper]\nkind = \"sinusoid\"\nrms = 1.0e-6\n\
+             wavelength = 5.0e-6\n[surface.lower]\nkind = \"flat\"\n\
+             [discretization]\nelements_upper = [8, 6, 2]\nelements_lower = [4, 4, 2]\n",
+            Path::new("."),
+        )
+        .unwrap();
+        let w = case.sample.width;
+        let (exact, _) = case.areal_surfaces().unwrap();
+        let n = 24;
+        let fit = export_heightmap(&case, n, 0, true).unwrap();
+        let own = export_heightmap(&case, n, 0, false).unwrap();
+        assert!((fit.rms[0] / 1e-6 - 1.0).abs() < 1e-9 && fit.rms[1] == 0.0);
+        assert!(
+            fit.fit_max_error[0] > 0.0 && fit.fit_max_error[0] < 0.5e-6,
+            "{}",
+            fit.fit_max_error[0]
+        );
+        assert_eq!(fit.fit_max_error[1], 0.0);
+        let csv = heightmap_csv(&fit);
+        assert_eq!(csv.lines().count(), n);
+        assert!(csv.lines().all(|l| l.split(',').count() == n));
+        let p = std::env::temp_dir().join(format!("tcgen-heightmap-{}.csv", std::process::id()));
+        for e in [&fit, &own] {
+            write_heightmap_csv(e, &p).unwrap();
+            let back = HeightMap::read(&p, w, "k").unwrap();
+            for k in [0, 5, 77, n * n - 1] {
+                let (x, y) = ((k % n) as f64 * w / n as f64, (k / n) as f64 * w / n as f64);
+                let z = e.heights[k];
+                assert!(
+                    (back.height(x, y) + back.removed_mean - z).abs() < 1e-15,
+                    "{k}"
+                );
+                if !e.fitted {
+                    assert!((exact.height(x, y) - z).abs() < 1e-18);
+                } else {
+                    assert!((exact.height(x, y) - z).abs() <= fit.fit_max_error[0]);
+                }
+            }
+        }
+        std::fs::remove_file(&p).unwrap();
+        let two = Case::from_toml(
+            "[surface.upper]\nkind = \"flat\"\n[surface.lower]\nkind = \"flat\"\n",
+            Path::new("."),
+        )
+        .unwrap();
+        let e = export_heightmap(&two, 16, 0, true).unwrap_err().to_string();
+        assert!(e.contains("sample.dimension"), "{e}");
     }
 }

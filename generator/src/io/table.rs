@@ -123,6 +123,20 @@ pub struct SampleSurfaces {
     pub lower_fit_error: f64,
 }
 
+/// The sample's spatial dimension (`sample.dimension`, 2 when absent) and
+/// its periodic cell, `[W]` (2D) or `[W, W]` (3D) in m (`sample.width`),
+/// read from a resolved configuration; `None` when it does not parse.
+pub fn sample_cell(config: &str) -> Option<(usize, Vec<f64>)> {
+    let t: toml::Table = config.parse().ok()?;
+    let sample = t.get("sample")?.as_table()?;
+    let dimension = match sample.get("dimension") {
+        None => 2,
+        Some(v) => usize::try_from(v.as_integer()?).ok()?,
+    };
+    let width = sample.get("width")?.as_float()?;
+    Some((dimension, vec![width; dimension.saturating_sub(1)]))
+}
+
 /// Provenance and configuration of a table.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TableInfo {

@@ -1,5 +1,10 @@
 //! The case file of `tcgen solve` (TOML, SI units, Table I defaults); every
 //! key is documented in `schemas/case.md`.
+//!
+//! `[sample] dimension` (2 or 3) decides how the rest reads: the element
+//! counts have 2 entries `[nx, nz]` or 3 `[nx, ny, nz]` ([`ElementCounts`]),
+//! and the surfaces are profiles `f(x)` ([`SurfaceSpec`]) or areal surfaces
+//! `f(x, y)` ([`ArealSpec`]), held as a [`BodySurface`].
 
 use std::path::{Path, PathBuf};
 
@@ -8,8 +13,15 @@ use serde::{Deserialize, Serialize};
 use crate::contact::ContactSettings;
 use crate::material::Material;
 use crate::solve::{LoadStepping, NewtonSettings};
-use crate::surface::{Surface, SurfaceSpec};
+use crate::surface::{ArealSpec, ArealSurface, SinusoidPattern, Surface, SurfaceSpec};
 use crate::{Error, Result};
+
+mod dimension;
+#[cfg(test)]
+mod tests;
+
+use dimension::check_dimension;
+pub use dimension::{BodySurface, DIMENSIONS, ElementCounts};
 
 /// Lateral boundary condition (2.3).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -74,7 +86,9 @@ impl From<TopLateral> for String {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SampleSection {
-    /// Sample width `W` (m).
+    /// 2 (plane strain, profiles) or 3 (a `W × W` cell, areal surfaces).
+    pub dimension: usize,
+    /// Sample width `W` (m); in 3D the cell is `W × W` in x and y.
     pub width: f64,
     /// Height `H0` of each body from the mean plane of its surface (m).
     pub height: f64,
@@ -87,6 +101,7 @@ pub struct SampleSection {
 impl Default for SampleSection {
     fn default() -> Self {
         SampleSection {
+            dimension: 2,
             width: 1.0e-5,
             height: 7.0e-6,
             lateral: LateralCondition::Periodic,
@@ -96,13 +111,20 @@ impl Default for SampleSection {
 }
 
 /// `[surface]`: `upper` (body 1) and `lower` (body 2).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct SurfaceSection {
     /// Body 1 (upper) surface.
-    pub upper: SurfaceSpec,
+    pub upper: BodySurface,
     /// Body 2 (lower) surface.
-    pub lower: SurfaceSpec,
+    pub lower: BodySurface,
+}
+
+/// `[surface]` as read, before the dimension says how to take it.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SurfaceTables {
+    upper: toml::Table,
+    lower: toml::Table,
 }
 
 /// The most levels of local refinement (elements `2^-12` of the coarse ones).
@@ -110,14 +132,14 @@ pub const MAX_LEVELS: usize = 12;
 
 /// `[discretization]`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
+#[serde(default = "DiscretizationSection::unset", deny_unknown_fields)]
 pub struct DiscretizationSection {
     /// NURBS degree `p` (both directions, both bodies).
     pub degree: usize,
-    /// Elements of the upper body `[along x, through the height]`.
-    pub elements_upper: [usize; 2],
+    /// Elements of the upper body `[nx, nz]` (2D) or `[nx, ny, nz]` (3D).
+    pub elements_upper: ElementCounts,
     /// Elements of the lower body.
-    pub elements_lower: [usize; 2],
+    pub elements_lower: ElementCounts,
     /// Bulk Gauss points per direction (default `p + 2`).
     pub bulk_points: Option<usize>,
     /// Levels of local (THB) refinement towards the contact interface: the
@@ -135,16 +157,44 @@ pub struct DiscretizationSection {
 }
 
 impl Default for DiscretizationSection {
+    /// The 2D defaults.
     fn default() -> Self {
+        DiscretizationSection::default_for(2)
+    }
+}
+
+impl DiscretizationSection {
+    /// The default element counts `(upper, lower)` of a dimension: `[32, 16]`
+    /// and `[27, 14]` in 2D, `[8, 8, 4]` and `[7, 7, 4]` in 3D.
+    pub fn default_elements(dimension: usize) -> (ElementCounts, ElementCounts) {
+        if dimension == 3 {
+            ([8, 8, 4].into(), [7, 7, 4].into())
+        } else {
+            ([32, 16].into(), [27, 14].into())
+        }
+    }
+
+    /// The defaults of a dimension.
+    pub fn default_for(dimension: usize) -> Self {
+        let (elements_upper, elements_lower) = Self::default_elements(dimension);
         DiscretizationSection {
             degree: 2,
-            elements_upper: [32, 16],
-            elements_lower: [27, 14],
+            elements_upper,
+            elements_lower,
             bulk_points: None,
             interface_levels: 0,
             target_error: None,
             max_dofs: 200_000,
             max_levels: 10,
+        }
+    }
+
+    /// As read: the element counts empty until the dimension is known.
+    fn unset() -> Self {
+        DiscretizationSection {
+            elements_upper: ElementCounts::empty(),
+            elements_lower: ElementCounts::empty(),
+            ..Self::default_for(2)
         }
     }
 }
@@ -300,34 +350,79 @@ impl SolverSection {
 
 /// A whole case file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(try_from = "CaseFile")]
 pub struct Case {
     /// `[sample]`.
-    #[serde(default)]
     pub sample: SampleSection,
     /// `[surface]`.
     pub surface: SurfaceSection,
     /// `[material]` with optional `[material.upper]` / `[material.lower]` overrides.
-    #[serde(default)]
     pub material: toml::Table,
     /// `[discretization]`.
-    #[serde(default)]
     pub discretization: DiscretizationSection,
     /// `[contact]`.
-    #[serde(default)]
     pub contact: ContactSettings,
     /// `[load]`.
-    #[serde(default)]
     pub load: LoadSection,
     /// `[homogenization]`.
-    #[serde(default)]
     pub homogenization: HomogenizationSection,
     /// `[solver]`.
-    #[serde(default)]
     pub solver: SolverSection,
     /// Directory that relative paths in the case refer to (not a key).
     #[serde(skip)]
     pub base_dir: PathBuf,
+}
+
+/// A case file as read: the surfaces and element counts wait for `dimension`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CaseFile {
+    #[serde(default)]
+    sample: SampleSection,
+    surface: SurfaceTables,
+    #[serde(default)]
+    material: toml::Table,
+    #[serde(default = "DiscretizationSection::unset")]
+    discretization: DiscretizationSection,
+    #[serde(default)]
+    contact: ContactSettings,
+    #[serde(default)]
+    load: LoadSection,
+    #[serde(default)]
+    homogenization: HomogenizationSection,
+    #[serde(default)]
+    solver: SolverSection,
+}
+
+impl TryFrom<CaseFile> for Case {
+    type Error = Error;
+    /// Takes the surfaces and element counts by `sample.dimension` (not validated).
+    fn try_from(f: CaseFile) -> Result<Case> {
+        let dim = f.sample.dimension;
+        check_dimension(dim)?;
+        let mut discretization = f.discretization;
+        let (upper, lower) = DiscretizationSection::default_elements(dim);
+        if discretization.elements_upper.is_empty() {
+            discretization.elements_upper = upper;
+        }
+        if discretization.elements_lower.is_empty() {
+            discretization.elements_lower = lower;
+        }
+        Ok(Case {
+            surface: SurfaceSection {
+                upper: BodySurface::from_table("surface.upper", f.surface.upper, dim)?,
+                lower: BodySurface::from_table("surface.lower", f.surface.lower, dim)?,
+            },
+            sample: f.sample,
+            material: f.material,
+            discretization,
+            contact: f.contact,
+            load: f.load,
+            homogenization: f.homogenization,
+            solver: f.solver,
+            base_dir: PathBuf::new(),
+        })
+    }
 }
 
 fn positive(key: &str, v: f64, unit: &str) -> Result<()> {
@@ -370,12 +465,28 @@ pub fn body_materials(material: &toml::Table) -> Result<(Material, Material)> {
 impl Case {
     /// Parses TOML text; `base_dir` resolves relative paths.
     pub fn from_toml(text: &str, base_dir: &Path) -> Result<Self> {
-        let mut c: Case = toml::from_str(text).map_err(|e| Error::Config(e.to_string()))?;
+        let f: CaseFile = toml::from_str(text).map_err(|e| Error::Config(e.to_string()))?;
+        let mut c = Case::try_from(f)?;
         c.base_dir = base_dir.to_path_buf();
         c.validate()?;
         Ok(c)
     }
 
+    /// Reads the case keys of a parsed TOML table, without validating them
+    /// (a sweep sets the loads first); `base_dir` resolves relative paths.
+    pub fn from_table(table: toml::Table, base_dir: &Path) -> Result<Self> {
+        let f: CaseFile = toml::Value::Table(table)
+            .try_into()
+            .map_err(|e: toml::de::Error| Error::Config(e.to_string()))?;
+        let mut c = Case::try_from(f)?;
+        c.base_dir = base_dir.to_path_buf();
+        Ok(c)
+    }
+
+    /// The dimension, 2 or 3 (`[sample] dimension`).
+    pub fn dimension(&self) -> usize {
+        self.sample.dimension
+    }
     /// Reads and validates a case file.
     pub fn read(path: &Path) -> Result<Self> {
         let text = crate::error::read_text(path)?;
@@ -414,57 +525,134 @@ impl Case {
         Ok(())
     }
 
-    /// Builds the upper and lower surfaces (an error names the key).
+    /// Builds the upper and lower profiles of a 2D case (an error names the key).
     pub fn surfaces(&self) -> Result<(Box<dyn Surface>, Box<dyn Surface>)> {
         let w = self.sample.width;
+        let build = |key: &str, s: &BodySurface| match s {
+            BodySurface::Profile(p) if self.dimension() == 2 => p.build(key, w, &self.base_dir),
+            _ => Err(Error::invalid(
+                "sample.dimension",
+                self.dimension(),
+                format!("2 for the profiles f(x) of {key} (a 3D case has areal surfaces f(x, y))"),
+            )),
+        };
         Ok((
-            self.surface
-                .upper
-                .build("surface.upper", w, &self.base_dir)?,
-            self.surface
-                .lower
-                .build("surface.lower", w, &self.base_dir)?,
+            build("surface.upper", &self.surface.upper)?,
+            build("surface.lower", &self.surface.lower)?,
         ))
     }
 
-    /// Checks every key's range; the error names the key.
-    pub fn validate(&self) -> Result<()> {
-        positive("sample.width", self.sample.width, "m")?;
-        positive("sample.height", self.sample.height, "m")?;
-        self.surface
-            .upper
-            .validate("surface.upper", self.sample.width)?;
-        self.surface
-            .lower
-            .validate("surface.lower", self.sample.width)?;
-        // Profile files are read now (not after a table header is written).
+    /// Builds the upper and lower areal surfaces of a 3D case (an error names the key).
+    pub fn areal_surfaces(&self) -> Result<(Box<dyn ArealSurface>, Box<dyn ArealSurface>)> {
+        let w = self.sample.width;
+        let build = |key: &str, s: &BodySurface| match s {
+            BodySurface::Areal(a) if self.dimension() == 3 => a.build(key, w, &self.base_dir),
+            _ => Err(Error::invalid(
+                "sample.dimension",
+                self.dimension(),
+                format!("3 for the areal surfaces f(x, y) of {key} (a 2D case has profiles f(x))"),
+            )),
+        };
+        Ok((
+            build("surface.upper", &self.surface.upper)?,
+            build("surface.lower", &self.surface.lower)?,
+        ))
+    }
+
+    /// Checks the surfaces against the dimension and the sample, and reads
+    /// their files (profiles, height maps) now, not after a table header is
+    /// written; the error names the key.
+    fn validate_surfaces(&self) -> Result<()> {
+        let (w, h, dim) = (self.sample.width, self.sample.height, self.dimension());
         for (key, spec) in [
             ("surface.upper", &self.surface.upper),
             ("surface.lower", &self.surface.lower),
         ] {
-            if let SurfaceSpec::Profile { .. } = spec {
-                spec.build(key, self.sample.width, &self.base_dir)?;
+            if spec.dimension() != dim {
+                return Err(Error::invalid(
+                    key,
+                    if dim == 3 {
+                        "a profile f(x)"
+                    } else {
+                        "an areal surface f(x, y)"
+                    },
+                    format!(
+                        "{} with sample.dimension = {dim}",
+                        if dim == 3 {
+                            "an areal surface f(x, y)"
+                        } else {
+                            "a profile f(x)"
+                        }
+                    ),
+                ));
             }
-        }
-        // A sinusoid's crest must stay inside its body (random surfaces are
-        // checked when generated).
-        for (key, spec) in [
-            ("upper", &self.surface.upper),
-            ("lower", &self.surface.lower),
-        ] {
-            if let SurfaceSpec::Sinusoid { rms, .. } = spec
-                && std::f64::consts::SQRT_2 * rms >= self.sample.height
+            // The highest crest of a deterministic surface (random surfaces
+            // are checked when generated).
+            let crest = match spec {
+                BodySurface::Profile(p) => {
+                    p.validate(key, w)?;
+                    match p {
+                        SurfaceSpec::Profile { .. } => {
+                            p.build(key, w, &self.base_dir)?;
+                            None
+                        }
+                        SurfaceSpec::Sinusoid { rms, .. } => {
+                            Some((std::f64::consts::SQRT_2 * rms, "the amplitude √2·rms"))
+                        }
+                        _ => None,
+                    }
+                }
+                BodySurface::Areal(a) => {
+                    a.validate(key, w)?;
+                    match a {
+                        ArealSpec::Heightmap { file } => {
+                            let path = if file.is_absolute() {
+                                file.clone()
+                            } else {
+                                self.base_dir.join(file)
+                            };
+                            let map =
+                                crate::surface::HeightMap::read(&path, w, &format!("{key}.file"))?;
+                            Some((map.largest_height(), "the largest |height| of the map"))
+                        }
+                        ArealSpec::Sinusoid {
+                            rms,
+                            pattern: SinusoidPattern::EggBox,
+                            ..
+                        } => Some((2.0 * rms, "the amplitude 2·rms of the egg-box")),
+                        ArealSpec::Sinusoid {
+                            rms,
+                            pattern: SinusoidPattern::Ridges,
+                            ..
+                        } => Some((
+                            std::f64::consts::SQRT_2 * rms,
+                            "the amplitude √2·rms of the ridges",
+                        )),
+                        _ => None,
+                    }
+                }
+            };
+            if let Some((a, what)) = crest
+                && a >= h
             {
                 return Err(Error::invalid(
                     "sample.height",
-                    format!("{:e} m", self.sample.height),
+                    format!("{h:e} m"),
                     format!(
-                        "more than the amplitude √2·rms = {:e} m of surface.{key} (its crest would reach through the body)",
-                        std::f64::consts::SQRT_2 * rms
+                        "more than {what} = {a:e} m of {key} (its crest would reach through the body)"
                     ),
                 ));
             }
         }
+        Ok(())
+    }
+
+    /// Checks every key's range; the error names the key.
+    pub fn validate(&self) -> Result<()> {
+        check_dimension(self.dimension())?;
+        positive("sample.width", self.sample.width, "m")?;
+        positive("sample.height", self.sample.height, "m")?;
+        self.validate_surfaces()?;
         self.materials()?;
         let d = &self.discretization;
         if !(1..=5).contains(&d.degree) {
@@ -474,15 +662,21 @@ impl Case {
                 "an integer in 1..=5",
             ));
         }
+        let dim = self.dimension();
         for (key, e) in [
-            ("discretization.elements_upper", d.elements_upper),
-            ("discretization.elements_lower", d.elements_lower),
+            ("discretization.elements_upper", &d.elements_upper),
+            ("discretization.elements_lower", &d.elements_lower),
         ] {
-            if e.iter().any(|&n| !(1..=4096).contains(&n)) {
+            if e.len() != dim || e.as_slice().iter().any(|&n| !(1..=4096).contains(&n)) {
+                let form = if dim == 3 {
+                    "three element counts [nx, ny, nz]"
+                } else {
+                    "two element counts [nx, nz]"
+                };
                 return Err(Error::invalid(
                     key,
-                    format!("{e:?}"),
-                    "two element counts in 1..=4096",
+                    e,
+                    format!("{form} with sample.dimension = {dim}, each in 1..=4096"),
                 ));
             }
         }
@@ -573,118 +767,5 @@ impl Case {
             ));
         }
         Ok(())
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    const MINIMAL: &str = r#"
-[surface.upper]
-kind = "sinusoid"
-rms = 1.0e-6
-wavelength = 1.0e-5
-[surface.lower]
-kind = "flat"
-"#;
-
-    /// Issue 14 item 4: keys that used to pass validation and fail later.
-    #[test]
-    fn late_failures_are_validation_errors_naming_the_key() {
-        for (extra, key) in [
-            ("[load]\nflux = 0.0\n", "load.flux"),
-            (
-                "[solver.newton]\nmax_iterations = 0\n",
-                "solver.newton.max_iterations",
-            ),
-            (
-                "[solver.stepping]\nmin_step = 0.5\nmax_step = 0.1\ninitial_step = 0.1\n",
-                "solver.stepping.min_step",
-            ),
-            (
-                "[material]\nconductivity_slope = -0.1\n[load]\ncontact_temperature = 310.0\n",
-                "material.upper.conductivity_slope",
-            ),
-        ] {
-            let e = Case::from_toml(&format!("{MINIMAL}\n{extra}"), Path::new("."))
-                .unwrap_err()
-                .to_string();
-            assert!(e.contains(key), "{key}: {e}");
-        }
-        // A profile file that is missing or malformed.
-        let dir = std::env::temp_dir().join(format!("tcgen-case-profile-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        std::fs::write(dir.join("bad.csv"), "x,z\n0.0,abc\n").unwrap();
-        for file in ["missing.csv", "bad.csv"] {
-            let t = format!(
-                "[surface.upper]\nkind = \"profile\"\nfile = \"{file}\"\n[surface.lower]\nkind = \"flat\"\n"
-            );
-            let e = Case::from_toml(&t, &dir).unwrap_err().to_string();
-            assert!(
-                e.contains("surface.upper.file") || e.contains(file),
-                "{file}: {e}"
-            );
-        }
-        // The same slope is fine where k stays positive.
-        let ok = "[material]\nconductivity_slope = -0.1\n[load]\ncontact_temperature = 295.0\n";
-        assert!(Case::from_toml(&format!("{MINIMAL}\n{ok}"), Path::new(".")).is_ok());
-    }
-
-    #[test]
-    fn defaults_are_table_i() {
-        let c = Case::from_toml(MINIMAL, Path::new(".")).unwrap();
-        let (u, l) = c.materials().unwrap();
-        assert_eq!(u, Material::default());
-        assert_eq!(l, Material::default());
-        assert_eq!(c.discretization.degree, 2);
-        assert_eq!(c.sample.top_lateral, TopLateral::Fixed);
-    }
-
-    #[test]
-    fn top_lateral_parses_and_names_the_allowed_values() {
-        for v in TopLateral::VALUES {
-            let t = format!("{MINIMAL}\n[sample]\ntop_lateral = \"{v}\"\n");
-            let c = Case::from_toml(&t, Path::new(".")).unwrap();
-            assert_eq!(c.sample.top_lateral.as_str(), v);
-        }
-        let t = format!("{MINIMAL}\n[sample]\ntop_lateral = \"slide\"\n");
-        let e = Case::from_toml(&t, Path::new(".")).unwrap_err().to_string();
-        assert!(e.contains("\"fixed\" or \"free\""), "{e}");
-    }
-
-    #[test]
-    fn per_body_material_overrides() {
-        let t = format!(
-            "{MINIMAL}\n[material]\nyoungs_modulus = 2.0e6\n[material.lower]\npoisson_ratio = 0.2\n"
-        );
-        let c = Case::from_toml(&t, Path::new(".")).unwrap();
-        let (u, l) = c.materials().unwrap();
-        assert_eq!(u.youngs_modulus, 2.0e6);
-        assert_eq!(l.youngs_modulus, 2.0e6);
-        assert_eq!(u.poisson_ratio, 0.3);
-        assert_eq!(l.poisson_ratio, 0.2);
-    }
-
-    #[test]
-    fn errors_name_the_key() {
-        for (extra, key) in [
-            ("[material]\npoisson_ratio = 0.7\n", "poisson_ratio"),
-            ("[load]\npressures = [-1.0]\n", "load.pressures"),
-            ("[discretization]\ndegree = 0\n", "discretization.degree"),
-            ("[sample]\nwidth = -1.0\n", "sample.width"),
-            (
-                "[contact]\nthermal = \"constitutive\"\nconductance_coefficient = -1.0\npressure_exponent = 1.0\n",
-                "conductance_coefficient",
-            ),
-            ("[load]\nflux = nan\n", "load.flux"),
-            ("[sample]\nwidht = 1.0\n", "widht"),
-            ("[sample]\ntop_lateral = \"slide\"\n", "sample.top_lateral"),
-        ] {
-            let e = Case::from_toml(&format!("{MINIMAL}\n{extra}"), Path::new("."))
-                .unwrap_err()
-                .to_string();
-            assert!(e.contains(key), "{key}: {e}");
-        }
     }
 }

@@ -101,6 +101,10 @@ pub fn fitted_height(fit: &SurfaceFit, width: f64, x: f64) -> f64 {
 
 /// Builds the case's surfaces, fits them and finds `g0`.
 pub fn case_geometry(case: &Case) -> Result<SampleGeometry> {
+    if case.dimension() == 3 {
+        let (upper, lower) = case.areal_surfaces()?;
+        return sample_geometry_3d(case, upper.as_ref(), lower.as_ref());
+    }
     let (upper, lower) = case.surfaces()?;
     Ok(sample_geometry(case, upper.as_ref(), lower.as_ref()))
 }
@@ -109,7 +113,11 @@ pub fn case_geometry(case: &Case) -> Result<SampleGeometry> {
 /// (upper, lower) bodies, lateral directions first, the height last.
 pub fn layout(case: &Case) -> (usize, Vec<usize>, Vec<usize>) {
     let d = &case.discretization;
-    (2, d.elements_upper.to_vec(), d.elements_lower.to_vec())
+    (
+        case.dimension(),
+        d.elements_upper.as_slice().to_vec(),
+        d.elements_lower.as_slice().to_vec(),
+    )
 }
 
 /// Fits both height maps of a 3D sample at the discretization's resolution
@@ -174,19 +182,19 @@ pub fn sample_geometry(case: &Case, upper: &dyn Surface, lower: &dyn Surface) ->
         &fu,
         w,
         d.degree,
-        d.elements_upper[0],
+        d.elements_upper.along(0),
         FitMethod::Interpolation,
     );
     let fit_lower = fit_height_function(
         &fl,
         w,
         d.degree,
-        d.elements_lower[0],
+        d.elements_lower.along(0),
         FitMethod::Interpolation,
     );
     // First touch: g0 = max (f2 − f1) over a dense sampling of the fitted curves,
     // refined by golden-section search around the best sample.
-    let n = 64 * (d.elements_upper[0].max(d.elements_lower[0]) + 1);
+    let n = 64 * (d.elements_upper.along(0).max(d.elements_lower.along(0)) + 1);
     let gap = |x: f64| fitted_height(&fit_lower, w, x) - fitted_height(&fit_upper, w, x);
     let (mut xb, mut gb) = (0.0, f64::NEG_INFINITY);
     for i in 0..=n {
@@ -255,7 +263,6 @@ impl Bodies {
 pub fn case_bodies(case: &Case, geo: &SampleGeometry) -> Result<Bodies> {
     let h = case.sample.height;
     let d = &case.discretization;
-    let (_, nu, nl) = layout(case);
     // A surface taller than the body would fold it: a clear error naming
     // the key (random samples are only known here).
     let block = |fit: &SampleFit, z: (f64, f64), face: RoughFace, n: usize| {
@@ -280,12 +287,17 @@ pub fn case_bodies(case: &Case, geo: &SampleGeometry) -> Result<Bodies> {
             )
         })
     };
-    let lower_patch = block(&geo.fit_lower, (0.0, -h), RoughFace::Top, nl[nl.len() - 1])?;
+    let lower_patch = block(
+        &geo.fit_lower,
+        (0.0, -h),
+        RoughFace::Top,
+        d.elements_lower.through_height(),
+    )?;
     let upper_patch = block(
         &geo.fit_upper,
         (geo.g0, h + geo.g0),
         RoughFace::Bottom,
-        nu[nu.len() - 1],
+        d.elements_upper.through_height(),
     )?;
     let periodic = case.sample.lateral == LateralCondition::Periodic;
     Ok(Bodies {
@@ -462,7 +474,7 @@ pub fn first_touch_offset(geo: &SampleGeometry, width: f64, s: f64, samples: usi
 pub fn rigid_sliding_offset(case: &Case, geo: &SampleGeometry) -> f64 {
     let w = case.sample.width;
     let d = &case.discretization;
-    let samples = 64 * (d.elements_upper[0].max(d.elements_lower[0]) + 1);
+    let samples = 64 * (d.elements_upper.along(0).max(d.elements_lower.along(0)) + 1);
     let n = 512;
     let h = w / n as f64;
     let z = |s: f64| first_touch_offset(geo, w, s, samples);
@@ -599,9 +611,7 @@ mod tests {
              [discretization]\nelements_upper = [16, 4]\nelements_lower = [12, 4]\n"
         );
         let case = Case::from_toml(&text, std::path::Path::new(".")).unwrap();
-        let w = case.sample.width;
-        let su = case.surface.upper.build("u", w, &case.base_dir).unwrap();
-        let sl = case.surface.lower.build("l", w, &case.base_dir).unwrap();
+        let (su, sl) = case.surfaces().unwrap();
         let geo = sample_geometry(&case, su.as_ref(), sl.as_ref());
         (case, geo)
     }

@@ -263,6 +263,8 @@ pub struct HeightMap {
     coef: Vec<f64>,
     /// The mean height removed from the data (m).
     pub removed_mean: f64,
+    /// The largest `|height|` of the data, mean removed (m).
+    largest: f64,
 }
 
 /// Solves the circulant system `(c_{i−1} + 4 c_i + c_{i+1})/6 = f_i` (periodic
@@ -373,6 +375,7 @@ impl HeightMap {
             ny,
             coef: z,
             removed_mean: mean,
+            largest: hi.max(-lo),
         })
     }
 
@@ -403,6 +406,11 @@ impl HeightMap {
     /// Grid size `(n_x, n_y)`.
     pub fn size(&self) -> (usize, usize) {
         (self.nx, self.ny)
+    }
+
+    /// The largest `|height|` at the nodes, mean removed (m).
+    pub fn largest_height(&self) -> f64 {
+        self.largest
     }
 }
 

@@ -22,7 +22,6 @@ use serde::{Deserialize, Serialize};
 
 use crate::io::hash::sha256_hex;
 use crate::sample::Case;
-use crate::surface::SurfaceSpec;
 use crate::{Error, Result};
 
 /// Spacing of a range axis.
@@ -280,10 +279,7 @@ impl SweepConfig {
                 "an integer in 0..2^63",
             ));
         }
-        let mut case: Case = toml::Value::Table(table)
-            .try_into()
-            .map_err(|e: toml::de::Error| Error::Config(e.to_string()))?;
-        case.base_dir = base_dir.to_path_buf();
+        let mut case = Case::from_table(table, base_dir)?;
         case.load.pressures = pressures.clone();
         case.load.flux = fluxes[0];
         case.load.contact_temperature = contact_temperatures[0];
@@ -292,7 +288,7 @@ impl SweepConfig {
             ("surface.upper", &case.surface.upper),
             ("surface.lower", &case.surface.lower),
         ] {
-            if let SurfaceSpec::Random(r) = s {
+            if let Some(r) = s.random() {
                 random = true;
                 for (name, given) in [("seed", r.seed.is_some()), ("sample", r.sample.is_some())] {
                     if given {
@@ -330,8 +326,7 @@ impl SweepConfig {
 
     /// Whether any surface is random.
     pub fn is_random(&self) -> bool {
-        matches!(self.case.surface.upper, SurfaceSpec::Random(_))
-            || matches!(self.case.surface.lower, SurfaceSpec::Random(_))
+        self.case.surface.upper.random().is_some() || self.case.surface.lower.random().is_some()
     }
 
     /// The case of one path: sample `s`, flux `fluxes[ih]`, temperature
@@ -341,7 +336,7 @@ impl SweepConfig {
         c.load.flux = self.fluxes[ih];
         c.load.contact_temperature = self.contact_temperatures[it];
         for s in [&mut c.surface.upper, &mut c.surface.lower] {
-            if let SurfaceSpec::Random(r) = s {
+            if let Some(r) = s.random_mut() {
                 r.seed = Some(self.sweep.seed);
                 r.sample = Some(sample as u64);
             }
@@ -379,7 +374,7 @@ fn resolved_case_table(case: &Case) -> Result<toml::Table> {
         ("surface.upper", &mut case.surface.upper),
         ("surface.lower", &mut case.surface.lower),
     ] {
-        if let crate::surface::SurfaceSpec::Random(r) = spec {
+        if let Some(r) = spec.random_mut() {
             r.stream = Some(r.stream_for(key));
             if r.spectrum == crate::surface::SpectrumKind::SelfAffine {
                 r.rolloff_wavelength = Some(r.rolloff_wavelength.unwrap_or(width));
@@ -488,11 +483,43 @@ seed = 5
         assert_eq!(up["exact_rms"].as_bool(), Some(false));
         let p = c.path_case(1, 1, 0);
         assert_eq!(p.load.flux, 1e6);
-        match p.surface.upper {
-            SurfaceSpec::Random(r) => assert_eq!((r.seed, r.sample), (Some(5), Some(1))),
-            _ => panic!(),
-        }
+        let r = p.surface.upper.random().unwrap();
+        assert_eq!((r.seed, r.sample), (Some(5), Some(1)));
         assert_eq!(c.identification(), "two-phase-self-consistent");
+    }
+
+    /// A 3D sweep: areal random surfaces take the seed and sample of the
+    /// sweep, the resolved text records the dimension and the three counts
+    /// and reads back with the same hash.
+    #[test]
+    fn a_3d_sweep_resolves() {
+        let t = format!(
+            "[sample]\ndimension = 3\n[discretization]\nelements_upper = [6, 6, 3]\nelements_lower = [5, 5, 3]\n{BASE}"
+        );
+        let c = SweepConfig::from_toml(&t, Path::new(".")).unwrap();
+        assert!(c.is_random());
+        let resolved: toml::Table = toml::from_str(&c.resolved).unwrap();
+        assert_eq!(resolved["sample"]["dimension"].as_integer(), Some(3));
+        assert_eq!(
+            resolved["discretization"]["elements_upper"]
+                .as_array()
+                .map(Vec::len),
+            Some(3)
+        );
+        assert_eq!(resolved["surface"]["upper"]["stream"].as_integer(), Some(0));
+        let again = SweepConfig::from_toml(&c.resolved, Path::new(".")).unwrap();
+        assert_eq!(again.sha256, c.sha256);
+        let p = c.path_case(1, 0, 0);
+        let r = p.surface.upper.random().unwrap();
+        assert_eq!((r.seed, r.sample), (Some(5), Some(1)));
+        assert!(p.areal_surfaces().is_ok());
+        let e = SweepConfig::from_toml(&t.replace("[6, 6, 3]", "[6, 3]"), Path::new("."))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("discretization.elements_upper") && e.contains("three"),
+            "{e}"
+        );
     }
 
     #[test]

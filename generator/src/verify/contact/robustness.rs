@@ -45,14 +45,15 @@ pub fn sinusoid_case(
                 rms: 1.0e-6,
                 wavelength: 1.0e-5,
                 phase: 0.0,
-            },
-            lower: SurfaceSpec::Flat,
+            }
+            .into(),
+            lower: SurfaceSpec::Flat.into(),
         },
         material: toml::Table::new(),
         discretization: DiscretizationSection {
             degree,
-            elements_upper,
-            elements_lower,
+            elements_upper: elements_upper.into(),
+            elements_lower: elements_lower.into(),
             ..DiscretizationSection::default()
         },
         contact: ContactSettings::default(),

@@ -1,0 +1,400 @@
+//! Tests of the case file: keys, defaults, errors, both dimensions.
+
+use super::*;
+
+const MINIMAL: &str = r#"
+[surface.upper]
+kind = "sinusoid"
+rms = 1.0e-6
+wavelength = 1.0e-5
+[surface.lower]
+kind = "flat"
+"#;
+
+/// Issue 14 item 4: keys that used to pass validation and fail later.
+#[test]
+fn late_failures_are_validation_errors_naming_the_key() {
+    for (extra, key) in [
+        ("[load]\nflux = 0.0\n", "load.flux"),
+        (
+            "[solver.newton]\nmax_iterations = 0\n",
+            "solver.newton.max_iterations",
+        ),
+        (
+            "[solver.stepping]\nmin_step = 0.5\nmax_step = 0.1\ninitial_step = 0.1\n",
+            "solver.stepping.min_step",
+        ),
+        (
+            "[material]\nconductivity_slope = -0.1\n[load]\ncontact_temperature = 310.0\n",
+            "material.upper.conductivity_slope",
+        ),
+    ] {
+        let e = Case::from_toml(&format!("{MINIMAL}\n{extra}"), Path::new("."))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(key), "{key}: {e}");
+    }
+    // A profile file that is missing or malformed.
+    let dir = std::env::temp_dir().join(format!("tcgen-case-profile-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("bad.csv"), "x,z\n0.0,abc\n").unwrap();
+    for file in ["missing.csv", "bad.csv"] {
+        let t = format!(
+            "[surface.upper]\nkind = \"profile\"\nfile = \"{file}\"\n[surface.lower]\nkind = \"flat\"\n"
+        );
+        let e = Case::from_toml(&t, &dir).unwrap_err().to_string();
+        assert!(
+            e.contains("surface.upper.file") || e.contains(file),
+            "{file}: {e}"
+        );
+    }
+    // The same slope is fine where k stays positive.
+    let ok = "[material]\nconductivity_slope = -0.1\n[load]\ncontact_temperature = 295.0\n";
+    assert!(Case::from_toml(&format!("{MINIMAL}\n{ok}"), Path::new(".")).is_ok());
+}
+
+#[test]
+fn defaults_are_table_i() {
+    let c = Case::from_toml(MINIMAL, Path::new(".")).unwrap();
+    let (u, l) = c.materials().unwrap();
+    assert_eq!(u, Material::default());
+    assert_eq!(l, Material::default());
+    assert_eq!(c.discretization.degree, 2);
+    assert_eq!(c.sample.top_lateral, TopLateral::Fixed);
+}
+
+#[test]
+fn top_lateral_parses_and_names_the_allowed_values() {
+    for v in TopLateral::VALUES {
+        let t = format!("{MINIMAL}\n[sample]\ntop_lateral = \"{v}\"\n");
+        let c = Case::from_toml(&t, Path::new(".")).unwrap();
+        assert_eq!(c.sample.top_lateral.as_str(), v);
+    }
+    let t = format!("{MINIMAL}\n[sample]\ntop_lateral = \"slide\"\n");
+    let e = Case::from_toml(&t, Path::new(".")).unwrap_err().to_string();
+    assert!(e.contains("\"fixed\" or \"free\""), "{e}");
+}
+
+#[test]
+fn per_body_material_overrides() {
+    let t = format!(
+        "{MINIMAL}\n[material]\nyoungs_modulus = 2.0e6\n[material.lower]\npoisson_ratio = 0.2\n"
+    );
+    let c = Case::from_toml(&t, Path::new(".")).unwrap();
+    let (u, l) = c.materials().unwrap();
+    assert_eq!(u.youngs_modulus, 2.0e6);
+    assert_eq!(l.youngs_modulus, 2.0e6);
+    assert_eq!(u.poisson_ratio, 0.3);
+    assert_eq!(l.poisson_ratio, 0.2);
+}
+
+const EGG_BOX: &str = r#"
+[sample]
+dimension = 3
+[surface.upper]
+kind = "sinusoid"
+rms = 1.0e-6
+wavelength = 1.0e-5
+pattern = "egg-box"
+[surface.lower]
+kind = "flat"
+"#;
+
+fn error(text: &str) -> String {
+    Case::from_toml(text, Path::new("."))
+        .unwrap_err()
+        .to_string()
+}
+
+/// `[sample] dimension`: 2 by default, 3 read, anything else an error
+/// naming the key and the allowed values.
+#[test]
+fn dimension_parses_and_names_the_allowed_values() {
+    let c = Case::from_toml(MINIMAL, Path::new(".")).unwrap();
+    assert_eq!(c.dimension(), 2);
+    let c = Case::from_toml(EGG_BOX, Path::new(".")).unwrap();
+    assert_eq!(c.dimension(), 3);
+    for bad in ["0", "1", "4"] {
+        let e = error(&EGG_BOX.replace("dimension = 3", &format!("dimension = {bad}")));
+        assert!(
+            e.contains("sample.dimension") && e.contains("2 (plane strain") && e.contains("or 3"),
+            "{bad}: {e}"
+        );
+    }
+    for bad in ["\"3\"", "-3", "3.0"] {
+        let e = error(&EGG_BOX.replace("dimension = 3", &format!("dimension = {bad}")));
+        assert!(e.contains("dimension = "), "{bad}: {e}");
+    }
+}
+
+/// Two counts `[nx, nz]` in 2D, three `[nx, ny, nz]` in 3D, with the
+/// defaults of each dimension; a wrong count names the key, the
+/// dimension and the expected count.
+#[test]
+fn element_counts_follow_the_dimension() {
+    let c = Case::from_toml(MINIMAL, Path::new(".")).unwrap();
+    let d = &c.discretization;
+    assert_eq!(d.elements_upper.as_slice(), &[32, 16]);
+    assert_eq!(d.elements_lower.as_slice(), &[27, 14]);
+    assert_eq!(
+        (d.elements_upper.along(0), d.elements_upper.through_height()),
+        (32, 16)
+    );
+    assert_eq!(d.elements_upper.lateral(), &[32]);
+    assert_eq!(*d, DiscretizationSection::default());
+    let c = Case::from_toml(EGG_BOX, Path::new(".")).unwrap();
+    let d = &c.discretization;
+    assert_eq!(d.elements_upper.as_slice(), &[8, 8, 4]);
+    assert_eq!(d.elements_lower.as_slice(), &[7, 7, 4]);
+    let t = format!("{EGG_BOX}[discretization]\nelements_upper = [6, 5, 3]\n");
+    let c = Case::from_toml(&t, Path::new(".")).unwrap();
+    let e = &c.discretization.elements_upper;
+    assert_eq!((e.along(0), e.along(1), e.through_height()), (6, 5, 3));
+    assert_eq!(e.lateral(), &[6, 5]);
+    assert_eq!(e.to_string(), "[6, 5, 3]");
+    for (text, key, expected) in [
+        (
+            format!("{EGG_BOX}[discretization]\nelements_upper = [8, 4]\n"),
+            "discretization.elements_upper",
+            "three element counts [nx, ny, nz] with sample.dimension = 3, each in 1..=4096",
+        ),
+        (
+            format!("{EGG_BOX}[discretization]\nelements_lower = [8, 8, 8, 4]\n"),
+            "discretization.elements_lower",
+            "three element counts",
+        ),
+        (
+            format!("{EGG_BOX}[discretization]\nelements_lower = [8, 0, 4]\n"),
+            "discretization.elements_lower",
+            "each in 1..=4096",
+        ),
+        (
+            format!("{MINIMAL}[discretization]\nelements_upper = [8, 8, 4]\n"),
+            "discretization.elements_upper",
+            "two element counts [nx, nz] with sample.dimension = 2, each in 1..=4096",
+        ),
+        (
+            format!("{MINIMAL}[discretization]\nelements_lower = []\n"),
+            "elements_lower",
+            "no element counts: expected [nx, nz] in 2D",
+        ),
+    ] {
+        let e = error(&text);
+        assert!(e.contains(key) && e.contains(expected), "{key}: {e}");
+    }
+}
+
+/// Every 3D surface kind builds through `areal_surfaces`; the 2D
+/// accessors refuse a 3D case and the 3D ones a 2D case.
+#[test]
+fn areal_surfaces_build_in_3d() {
+    let w = 1.0e-5;
+    let c = Case::from_toml(EGG_BOX, Path::new(".")).unwrap();
+    let (u, l) = c.areal_surfaces().unwrap();
+    assert!((u.height(0.0, 0.0) - 2.0e-6).abs() < 1e-18);
+    assert!((u.height(0.25 * w, 0.1 * w)).abs() < 1e-18);
+    assert_eq!(l.height(0.3 * w, 0.7 * w), 0.0);
+    assert!(c.surface.upper.areal().is_some() && c.surface.upper.profile().is_none());
+    let e = c.surfaces().err().unwrap().to_string();
+    assert!(e.contains("sample.dimension") && e.contains("areal"), "{e}");
+    let two = Case::from_toml(MINIMAL, Path::new(".")).unwrap();
+    let e = two.areal_surfaces().err().unwrap().to_string();
+    assert!(
+        e.contains("sample.dimension") && e.contains("profiles"),
+        "{e}"
+    );
+    // Ridges, random (with the 2D keys), a height map.
+    let ridges = EGG_BOX.replace("egg-box", "ridges");
+    let c = Case::from_toml(&ridges, Path::new(".")).unwrap();
+    let (u, _) = c.areal_surfaces().unwrap();
+    assert_eq!(u.height(0.1 * w, 0.2 * w), u.height(0.1 * w, 0.9 * w));
+    let random = "[sample]\ndimension = 3\n[surface.upper]\nkind = \"flat\"\n\
+                  [surface.lower]\nkind = \"random\"\nrms = 5.0e-7\nspectrum = \"gaussian\"\n\
+                  correlation_length = 2.0e-6\nseed = 2\n";
+    let c = Case::from_toml(random, Path::new(".")).unwrap();
+    assert!(c.surface.lower.random().is_some());
+    let (_, l) = c.areal_surfaces().unwrap();
+    assert!(l.height(0.3 * w, 0.6 * w).abs() > 0.0);
+    let dir = std::env::temp_dir().join(format!("tcgen-case-map-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let map: String = (0..4)
+        .map(|j| format!("0.0,{:e},0.0,-1.0e-7\n", 1.0e-7 * j as f64))
+        .collect();
+    std::fs::write(dir.join("map.csv"), map).unwrap();
+    let t = "[sample]\ndimension = 3\n[surface.upper]\nkind = \"heightmap\"\nfile = \"map.csv\"\n\
+             [surface.lower]\nkind = \"flat\"\n";
+    let c = Case::from_toml(t, &dir).unwrap();
+    let (u, _) = c.areal_surfaces().unwrap();
+    assert!(u.height(0.25 * w, 0.5 * w).is_finite());
+    // A missing or malformed map is an error at read time naming the key.
+    std::fs::write(dir.join("bad.csv"), "0,1e-7\n0,1e-7,3\n").unwrap();
+    for file in ["missing.csv", "bad.csv"] {
+        let e = Case::from_toml(&t.replace("map.csv", file), &dir)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("surface.upper.file") || e.contains(file),
+            "{file}: {e}"
+        );
+    }
+    // A map higher than the body.
+    std::fs::write(
+        dir.join("high.csv"),
+        "0,0,0,0\n0,8e-6,0,0\n0,0,0,0\n0,0,0,0\n",
+    )
+    .unwrap();
+    let e = Case::from_toml(&t.replace("map.csv", "high.csv"), &dir)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("sample.height") && e.contains("|height| of the map"),
+        "{e}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Keys that belong to the other dimension are errors naming the key
+/// and what is allowed.
+#[test]
+fn keys_of_the_other_dimension_are_errors() {
+    let sinusoid_2d = MINIMAL.replace(
+        "wavelength = 1.0e-5",
+        "wavelength = 1.0e-5\npattern = \"egg-box\"",
+    );
+    let heightmap_2d = MINIMAL.replace("kind = \"flat\"", "kind = \"heightmap\"\nfile = \"m.csv\"");
+    let phase_3d = EGG_BOX.replace("pattern = \"egg-box\"", "phase = 0.5");
+    let profile_3d = EGG_BOX.replace("kind = \"flat\"", "kind = \"profile\"\nfile = \"p.csv\"");
+    for (text, key, expected) in [
+        (
+            &sinusoid_2d,
+            "surface.upper.pattern",
+            "absent with sample.dimension = 2",
+        ),
+        (
+            &heightmap_2d,
+            "surface.lower.kind",
+            "\"profile\" or \"random\" with sample.dimension = 2",
+        ),
+        (
+            &heightmap_2d,
+            "surface.lower.kind",
+            "needs [sample] dimension = 3",
+        ),
+        (
+            &phase_3d,
+            "surface.upper.phase",
+            "absent with sample.dimension = 3",
+        ),
+        (
+            &profile_3d,
+            "surface.lower.kind",
+            "\"random\" or \"heightmap\" with sample.dimension = 3",
+        ),
+        (
+            &EGG_BOX.replace("egg-box", "eggbox"),
+            "surface.upper.pattern",
+            "\"egg-box\"",
+        ),
+        (
+            &EGG_BOX.replace("egg-box", "eggbox"),
+            "surface.upper.pattern",
+            "\"ridges\"",
+        ),
+        (
+            &EGG_BOX.replace("kind = \"flat\"", "kind = \"plane\""),
+            "surface.lower.kind",
+            "one of \"flat\"",
+        ),
+        (
+            &EGG_BOX.replace("kind = \"flat\"", ""),
+            "surface.lower.kind",
+            "(missing)",
+        ),
+        (
+            &MINIMAL.replace("kind = \"flat\"", "kind = 3"),
+            "surface.lower.kind",
+            "one of \"flat\"",
+        ),
+    ] {
+        let e = error(text);
+        assert!(e.contains(key) && e.contains(expected), "{key}: {e}");
+    }
+    // Unknown keys of a kind name its table.
+    let e = error(&EGG_BOX.replace("pattern = \"egg-box\"", "patern = \"ridges\""));
+    assert!(e.contains("[surface.upper]") && e.contains("patern"), "{e}");
+    // The range checks of 2D apply in 3D.
+    let e = error(&EGG_BOX.replace("wavelength = 1.0e-5", "wavelength = 3.0e-6"));
+    assert!(e.contains("surface.upper.wavelength"), "{e}");
+    let e = error(&EGG_BOX.replace("rms = 1.0e-6", "rms = 4.0e-6"));
+    assert!(
+        e.contains("sample.height") && e.contains("2·rms of the egg-box"),
+        "{e}"
+    );
+    // Ridges of the same RMS are lower (√2·rms < 7 μm).
+    let ridges = EGG_BOX
+        .replace("rms = 1.0e-6", "rms = 4.0e-6")
+        .replace("egg-box", "ridges");
+    assert!(Case::from_toml(&ridges, Path::new(".")).is_ok());
+    let e = error(
+        &EGG_BOX.replace(
+            "kind = \"flat\"",
+            "kind = \"random\"\nrms = 1e-7\ncutoff_wavelength = 1e-8\nspectrum = \"self-affine\"\nhurst = 0.8",
+        ),
+    );
+    assert!(e.contains("surface.lower.cutoff_wavelength"), "{e}");
+    // A case built in code with a surface of the other dimension.
+    let mut c = Case::from_toml(EGG_BOX, Path::new(".")).unwrap();
+    c.surface.upper = SurfaceSpec::Flat.into();
+    let e = c.validate().unwrap_err().to_string();
+    assert!(
+        e.contains("surface.upper") && e.contains("sample.dimension = 3"),
+        "{e}"
+    );
+}
+
+/// The resolved configuration of a 3D case is a case file that reads
+/// back to the same case; a 2D one records `dimension = 2`.
+#[test]
+fn resolved_3d_case_round_trips() {
+    for text in [EGG_BOX, MINIMAL] {
+        let c = Case::from_toml(text, Path::new(".")).unwrap();
+        let resolved = crate::sweep::config::resolved_case(&c).unwrap();
+        let back = Case::from_toml(&resolved, Path::new(".")).unwrap();
+        assert_eq!(back.surface, c.surface);
+        assert_eq!(
+            back.discretization.elements_upper,
+            c.discretization.elements_upper
+        );
+        assert_eq!(
+            crate::sweep::config::resolved_case(&back).unwrap(),
+            resolved
+        );
+        let t: toml::Table = toml::from_str(&resolved).unwrap();
+        assert_eq!(
+            t["sample"]["dimension"].as_integer(),
+            Some(c.dimension() as i64)
+        );
+    }
+}
+
+#[test]
+fn errors_name_the_key() {
+    for (extra, key) in [
+        ("[material]\npoisson_ratio = 0.7\n", "poisson_ratio"),
+        ("[load]\npressures = [-1.0]\n", "load.pressures"),
+        ("[discretization]\ndegree = 0\n", "discretization.degree"),
+        ("[sample]\nwidth = -1.0\n", "sample.width"),
+        (
+            "[contact]\nthermal = \"constitutive\"\nconductance_coefficient = -1.0\npressure_exponent = 1.0\n",
+            "conductance_coefficient",
+        ),
+        ("[load]\nflux = nan\n", "load.flux"),
+        ("[sample]\nwidht = 1.0\n", "widht"),
+        ("[sample]\ntop_lateral = \"slide\"\n", "sample.top_lateral"),
+    ] {
+        let e = Case::from_toml(&format!("{MINIMAL}\n{extra}"), Path::new("."))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(key), "{key}: {e}");
+    }
+}
