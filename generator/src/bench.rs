@@ -618,7 +618,9 @@ pub fn synthetic_kernel(element: &BenchElement, k: &mut [f64], r: &mut [f64]) ->
 /// The micro-sample path benchmark (`tcgen bench --micro`): the Sect. 5.7
 /// sinusoid on a flat of `tables/sinusoid_on_flat.toml` (p = 2, meshes
 /// 32 × 16 / 27 × 14, PR, two-phase self-consistent) along `pressures`
-/// log-spaced pressures from 100 Pa to 0.35 MPa.
+/// log-spaced pressures from 100 Pa to 0.35 MPa, with the solver's
+/// factorizations (LDLᵀ for the phases with multipliers) and again with LU
+/// in every phase (wall times best of two, alternating).
 #[derive(Debug, Clone)]
 pub struct MicroBench {
     /// Wall time of the whole path (s).
@@ -627,6 +629,15 @@ pub struct MicroBench {
     pub newton_iterations: Vec<usize>,
     /// Self-consistency iterations per pressure.
     pub self_consistency_iterations: Vec<usize>,
+    /// Newton iterations whose LDLᵀ fell back to LU.
+    pub linear_fallbacks: usize,
+    /// Symbolic analyses of the path (one per new pattern and kind).
+    pub analyses: usize,
+    /// The path with LU in every phase: wall time (s), Newton iterations
+    /// per pressure.
+    pub lu_path: (f64, Vec<usize>),
+    /// Largest relative difference of the jumps of the two paths.
+    pub jump_difference: f64,
     /// Per phase (mechanical, thermal) at the last pressure: the parts of
     /// one Newton iteration (s, best of three).
     pub iteration: [IterationCost; 2],
@@ -643,17 +654,25 @@ pub struct IterationCost {
     pub contact_kinematics_s: f64,
     /// Assembly of residual and tangent (bulk and contact elements).
     pub assembly_s: f64,
-    /// Numeric factorization and solve.
+    /// Numeric factorization and solve with the solver's factorization.
     pub factorize_solve_s: f64,
-    /// Symbolic analysis of the pattern (once per pattern).
+    /// Symbolic analysis of the pattern (once per pattern; with the ordering).
     pub symbolic_s: f64,
+    /// Numeric factorization and solve by LU (COLAMD).
+    pub lu_factorize_solve_s: f64,
+    /// Symbolic analysis for LU.
+    pub lu_symbolic_s: f64,
+    /// The solver's factorization.
+    pub kind: &'static str,
+    /// Entries of its factor L (Cholesky/LDLᵀ; `None` for LU).
+    pub factor_nnz: Option<usize>,
     /// Unknowns.
     pub n_eq: usize,
 }
 
 impl IterationCost {
     /// The named parts (s).
-    pub fn parts(&self) -> [(&'static str, f64); 4] {
+    pub fn parts(&self) -> [(&'static str, f64); 6] {
         [
             (
                 "contact kinematics (projection, derivatives)",
@@ -662,6 +681,11 @@ impl IterationCost {
             ("assembly (bulk and contact elements)", self.assembly_s),
             ("factorization and solve", self.factorize_solve_s),
             ("symbolic analysis (once per pattern)", self.symbolic_s),
+            (
+                "LU + COLAMD: factorization and solve",
+                self.lu_factorize_solve_s,
+            ),
+            ("LU + COLAMD: symbolic analysis", self.lu_symbolic_s),
         ]
     }
 }
@@ -669,10 +693,42 @@ impl IterationCost {
 /// The pressure range of the micro-sample path benchmark (Pa).
 pub const MICRO_PRESSURES: (f64, f64) = (1.0e2, 3.5e5);
 
+/// The name of a factorization kind.
+fn kind_name(kind: &Factorization) -> &'static str {
+    match kind {
+        Factorization::Lu => "LU + COLAMD",
+        Factorization::Cholesky => "Cholesky + ND",
+        Factorization::Ldlt { .. } => "LDLT + ND",
+    }
+}
+
+/// A path of [`micro_sample_bench`] with the solver's factorizations
+/// (`symmetric`) or LU everywhere: the wall time (s), the solver, and per
+/// pressure the Newton and self-consistency iterations and the jump (K).
+#[allow(clippy::type_complexity)]
+fn micro_path<'a>(
+    case: &'a crate::sample::Case,
+    path: &[f64],
+    symmetric: bool,
+) -> Result<(
+    f64,
+    crate::homogenize::path::PathSolver<'a>,
+    Vec<(usize, usize, f64)>,
+)> {
+    let t = Instant::now();
+    let mut solver = crate::homogenize::path::PathSolver::new(case)?;
+    solver.model.set_symmetric_solvers(symmetric);
+    let mut points = Vec::new();
+    for &p in path {
+        let r = solver.solve_pressure(p)?;
+        points.push((r.newton_iterations, r.self_consistency_iterations, r.jump));
+    }
+    Ok((t.elapsed().as_secs_f64(), solver, points))
+}
+
 /// Runs the micro-sample path benchmark.
 pub fn micro_sample_bench(pressures: usize) -> Result<MicroBench> {
     use crate::bulk::Coupling;
-    use crate::homogenize::path::PathSolver;
     use crate::solve::NonlinearProblem;
     if pressures < 2 {
         return Err(Error::invalid("bench.pressures", pressures, "at least 2"));
@@ -685,15 +741,18 @@ pub fn micro_sample_bench(pressures: usize) -> Result<MicroBench> {
     let path: Vec<f64> = (0..pressures)
         .map(|i| lo * (hi / lo).powf(i as f64 / (pressures - 1) as f64))
         .collect();
-    let t = Instant::now();
-    let mut solver = PathSolver::new(&case)?;
-    let (mut newton, mut sc) = (Vec::new(), Vec::new());
-    for &p in &path {
-        let r = solver.solve_pressure(p)?;
-        newton.push(r.newton_iterations);
-        sc.push(r.self_consistency_iterations);
-    }
-    let wall_s = t.elapsed().as_secs_f64();
+    // Best of two, alternating (the machine may be shared).
+    let (mut lu_wall_s, _, lu_points) = micro_path(&case, &path, false)?;
+    let (mut wall_s, _, points) = micro_path(&case, &path, true)?;
+    lu_wall_s = lu_wall_s.min(micro_path(&case, &path, false)?.0);
+    let (again_s, mut solver, _) = micro_path(&case, &path, true)?;
+    wall_s = wall_s.min(again_s);
+    let jump_difference = points
+        .iter()
+        .zip(&lu_points)
+        .map(|(a, b)| (a.2 - b.2).abs() / b.2.abs())
+        .fold(0.0, f64::max);
+    let (linear_fallbacks, analyses) = (solver.linear_fallbacks(), solver.analyses());
     let model = &mut solver.model;
     let best = |f: &mut dyn FnMut() -> Result<()>| -> Result<f64> {
         let mut b = f64::INFINITY;
@@ -710,6 +769,10 @@ pub fn micro_sample_bench(pressures: usize) -> Result<MicroBench> {
         .enumerate()
     {
         model.set_coupling(coupling)?;
+        if coupling == Coupling::Thermal {
+            // As in the thermal phase of the path (Sect. 3.1).
+            model.freeze_conductivity(case.load.contact_temperature);
+        }
         let contact_kinematics_s = best(&mut || model.prepare())?;
         let n = model.n_eq();
         let nnz = model.pattern().row_idx().len();
@@ -718,44 +781,64 @@ pub fn micro_sample_bench(pressures: usize) -> Result<MicroBench> {
             values.iter_mut().for_each(|v| *v = 0.0);
             model.assemble(Some(&mut values), &mut r)
         })?;
-        let t = Instant::now();
-        let (kind, ordering) = model.factorization();
-        let mut linear = LinearSolver::new(model.pattern(), kind, ordering)?;
-        let symbolic_s = t.elapsed().as_secs_f64();
-        let factorize_solve_s = best(&mut || {
-            linear.factorize(&values)?;
-            let mut x = r.clone();
-            linear.solve_in_place(&mut x)
-        })?;
+        let timed = |kind: Factorization| -> Result<(f64, f64, Option<usize>)> {
+            let t = Instant::now();
+            let ordering = model.ordering(&kind);
+            let mut linear = LinearSolver::new(model.pattern(), kind, ordering)?;
+            let symbolic_s = t.elapsed().as_secs_f64();
+            let factorize_solve_s = best(&mut || {
+                linear.factorize(&values)?;
+                let mut x = r.clone();
+                linear.solve_in_place(&mut x)?;
+                match linear.fallback() {
+                    Some(reason) => Err(Error::LinearSolver(format!("bench: {reason}"))),
+                    None => Ok(()),
+                }
+            })?;
+            Ok((symbolic_s, factorize_solve_s, linear.factor_nnz()))
+        };
+        let kind = model.factorization();
+        let name = kind_name(&kind);
+        let (symbolic_s, factorize_solve_s, factor_nnz) = timed(kind)?;
+        let (lu_symbolic_s, lu_factorize_solve_s, _) = timed(Factorization::Lu)?;
         iteration[slot] = IterationCost {
             contact_kinematics_s,
             assembly_s,
             factorize_solve_s,
             symbolic_s,
+            lu_factorize_solve_s,
+            lu_symbolic_s,
+            kind: name,
+            factor_nnz,
             n_eq: n,
         };
+        model.restore_materials();
     }
     model.set_coupling(Coupling::Mechanical)?;
     let mut adaptive_case = sect57_case(16, path[0], Some(0.01))?;
     adaptive_case.load.pressures = path.clone();
     let t = Instant::now();
-    let points = crate::homogenize::solve_case(&adaptive_case, None, |_| {})?;
+    let adaptive_points = crate::homogenize::solve_case(&adaptive_case, None, |_| {})?;
     let adaptive = (
         t.elapsed().as_secs_f64(),
-        points
+        adaptive_points
             .iter()
             .map(|r| r.jump_error.unwrap_or(f64::INFINITY) / r.jump)
             .fold(0.0, f64::max),
-        points
+        adaptive_points
             .iter()
             .filter(|r| r.error_target_met == Some(true))
             .count(),
-        points.iter().map(|r| r.dofs).max().unwrap_or(0),
+        adaptive_points.iter().map(|r| r.dofs).max().unwrap_or(0),
     );
     Ok(MicroBench {
         wall_s,
-        newton_iterations: newton,
-        self_consistency_iterations: sc,
+        newton_iterations: points.iter().map(|p| p.0).collect(),
+        self_consistency_iterations: points.iter().map(|p| p.1).collect(),
+        linear_fallbacks,
+        analyses,
+        lu_path: (lu_wall_s, lu_points.iter().map(|p| p.0).collect()),
+        jump_difference,
         iteration,
         adaptive,
     })
@@ -788,19 +871,45 @@ pub fn format_micro_bench(b: &MicroBench) -> String {
         b.self_consistency_iterations.iter().min().unwrap_or(&0),
         b.self_consistency_iterations.iter().max().unwrap_or(&0),
     );
+    let (lu_wall, lu_newton) = &b.lu_path;
     let _ = writeln!(
         s,
-        "  one Newton iteration at {hi:e} Pa (ms, best of 3):  {:>11} {:>11}",
+        "  with LU + COLAMD in every phase: wall time {lu_wall:.2} s (LDLT/Cholesky path {:.2}x \
+         of it); Newton iterations {} (LDLT path {}); largest relative jump difference {:.1e}; \
+         LDLT fallbacks to LU {}; symbolic analyses {}",
+        b.wall_s / lu_wall,
+        lu_newton.iter().sum::<usize>(),
+        b.newton_iterations.iter().sum::<usize>(),
+        b.jump_difference,
+        b.linear_fallbacks,
+        b.analyses
+    );
+    let _ = writeln!(
+        s,
+        "  one Newton iteration at {hi:e} Pa (ms, best of 3):  {:>13} {:>13}",
         "mechanical", "thermal"
     );
     let _ = writeln!(
         s,
-        "    {:<47}{:>11} {:>11}",
+        "    {:<47}{:>13} {:>13}",
         "unknowns", b.iteration[0].n_eq, b.iteration[1].n_eq
+    );
+    let _ = writeln!(
+        s,
+        "    {:<47}{:>13} {:>13}",
+        "factorization", b.iteration[0].kind, b.iteration[1].kind
+    );
+    let nnz = |c: &IterationCost| c.factor_nnz.map_or("n/a".into(), |z| z.to_string());
+    let _ = writeln!(
+        s,
+        "    {:<47}{:>13} {:>13}",
+        "entries of its factor L",
+        nnz(&b.iteration[0]),
+        nnz(&b.iteration[1])
     );
     let (m, t) = (b.iteration[0].parts(), b.iteration[1].parts());
     for ((name, a), (_, c)) in m.iter().zip(&t) {
-        let _ = writeln!(s, "    {name:<47}{:>11.2} {:>11.2}", 1e3 * a, 1e3 * c);
+        let _ = writeln!(s, "    {name:<47}{:>13.2} {:>13.2}", 1e3 * a, 1e3 * c);
     }
     let (wall, worst, met, dofs) = b.adaptive;
     let _ = writeln!(
@@ -996,11 +1105,12 @@ pub fn solver_3d_bench(degree: usize, elements: &[usize]) -> Result<Vec<Solver3d
             let t = Instant::now();
             model.assemble(Some(&mut values), &mut residual)?;
             let assembly_s = t.elapsed().as_secs_f64();
-            let (kind, ordering) = if force_lu {
-                (Factorization::Lu, Ordering::Default)
+            let kind = if force_lu {
+                Factorization::Lu
             } else {
                 model.factorization()
             };
+            let ordering = model.ordering(&kind);
             let t = Instant::now();
             let mut solver = LinearSolver::new(model.pattern(), kind, ordering)?;
             let symbolic_s = t.elapsed().as_secs_f64();

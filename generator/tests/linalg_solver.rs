@@ -133,7 +133,7 @@ fn relative_residual(assembly: &Assembly, values: &[f64], x: &[f64], b: &[f64]) 
     norm(&r) / norm(b)
 }
 
-fn solve(solver: &LinearSolver, b: &[f64]) -> Vec<f64> {
+fn solve(solver: &mut LinearSolver, b: &[f64]) -> Vec<f64> {
     let mut x = b.to_vec();
     solver.solve_in_place(&mut x).unwrap();
     x
@@ -159,7 +159,7 @@ fn cholesky_solves_spd_system_with_default_and_nd_orderings() {
         )
         .unwrap();
         solver.factorize(&values).unwrap();
-        let x = solve(&solver, &rhs);
+        let x = solve(&mut solver, &rhs);
         let res = relative_residual(&system.assembly, &values, &x, &rhs);
         assert!(res < 1e-12, "Cholesky {ordering:?}: residual {res:e}");
         assert!(solver.factor_nnz().unwrap() >= system.assembly.nnz() / 2);
@@ -182,9 +182,10 @@ fn ldlt_solves_saddle_point_with_default_and_nd_orderings() {
         let mut solver =
             LinearSolver::new(system.assembly.symbolic(), kind, ordering.clone()).unwrap();
         solver.factorize(&values).unwrap();
-        let x = solve(&solver, &rhs);
+        let x = solve(&mut solver, &rhs);
         let res = relative_residual(&system.assembly, &values, &x, &rhs);
         assert!(res < 1e-12, "LDLT {ordering:?}: residual {res:e}");
+        assert_eq!(solver.fallback(), None, "quasi-definite: no fallback");
         // the multipliers are active: the solution has a nonzero multiplier block
         assert!(x[system.n_primal..].iter().any(|l| l.abs() > 1e-8));
         let perm = solver.permutation();
@@ -206,6 +207,54 @@ fn ldlt_solves_saddle_point_with_default_and_nd_orderings() {
     }
 }
 
+/// An LDLᵀ with an indefinite primal block keeps its pivots of the other sign (exact, counted);
+/// one with a zero pivot in its ordering (regularized by faer) is replaced by LU: the solution
+/// is exact, the reason is reported, and the next values use LDLᵀ again.
+#[test]
+fn ldlt_keeps_indefinite_pivots_and_falls_back_to_lu_on_zero_ones() {
+    let system = GridSystem::new(16, 12, 2, true);
+    let (indefinite, rhs) = system.assemble(1.0, -5.0, 0.0);
+    let (good, _) = system.assemble(1.0, 0.01, 0.0);
+    let kind = Factorization::Ldlt {
+        signs: system.signs(),
+    };
+    let nd = nested_dissection(system.assembly.symbolic(), &system.coords);
+    let mut solver =
+        LinearSolver::new(system.assembly.symbolic(), kind, Ordering::Custom(nd)).unwrap();
+    solver.factorize(&indefinite).unwrap();
+    assert_eq!(solver.fallback(), None);
+    assert!(solver.sign_mismatches() > 0);
+    let x = solve(&mut solver, &rhs);
+    let res = relative_residual(&system.assembly, &indefinite, &x, &rhs);
+    assert!(res < 1e-12, "indefinite LDLT: residual {res:e}");
+    solver.factorize(&good).unwrap();
+    assert_eq!((solver.fallback(), solver.sign_mismatches()), (None, 0));
+
+    // [0 1; 1 0] in the natural order: the first pivot is zero.
+    let pattern = faer::sparse::SymbolicSparseColMat::new_checked(
+        2,
+        2,
+        vec![0, 2, 4],
+        None,
+        vec![0, 1, 0, 1],
+    );
+    let kind = Factorization::Ldlt { signs: vec![1, -1] };
+    let mut solver =
+        LinearSolver::new(pattern.as_ref(), kind, Ordering::Custom(vec![0, 1])).unwrap();
+    let values = [0.0, 1.0, 1.0, 0.0];
+    for round in 1..=2 {
+        solver.factorize(&values).unwrap();
+        let reason = solver.fallback().expect("a zero pivot falls back");
+        assert!(reason.contains("regularized"), "{reason}");
+        let mut x = vec![2.0, 3.0];
+        solver.solve_in_place(&mut x).unwrap();
+        assert_eq!(x, [3.0, 2.0]);
+        assert_eq!(solver.fallbacks(), round);
+    }
+    solver.factorize(&[1.0, 1.0, 1.0, -1.0]).unwrap();
+    assert_eq!(solver.fallback(), None);
+}
+
 /// Supernodal LU of a nonsymmetric 3-field system solves to ≤ 1e−12.
 #[test]
 fn lu_solves_nonsymmetric_system() {
@@ -218,7 +267,7 @@ fn lu_solves_nonsymmetric_system() {
     )
     .unwrap();
     solver.factorize(&values).unwrap();
-    let x = solve(&solver, &rhs);
+    let x = solve(&mut solver, &rhs);
     let res = relative_residual(&system.assembly, &values, &x, &rhs);
     assert!(res < 1e-12, "LU residual {res:e}");
     assert_eq!(solver.factor_nnz(), None);
@@ -252,9 +301,9 @@ fn refactorization_with_new_values_matches_a_fresh_factorization() {
         let mut solver =
             LinearSolver::new(system.assembly.symbolic(), kind.clone(), Ordering::Default).unwrap();
         solver.factorize(&v1).unwrap();
-        let x1 = solve(&solver, &b1);
+        let x1 = solve(&mut solver, &b1);
         solver.factorize(&v2).unwrap();
-        let x2 = solve(&solver, &b2);
+        let x2 = solve(&mut solver, &b2);
         let res = relative_residual(&system.assembly, &v2, &x2, &b2);
         assert!(
             res < 1e-12,
@@ -267,7 +316,7 @@ fn refactorization_with_new_values_matches_a_fresh_factorization() {
         let mut fresh =
             LinearSolver::new(system.assembly.symbolic(), kind.clone(), Ordering::Default).unwrap();
         fresh.factorize(&v2).unwrap();
-        let x_fresh = solve(&fresh, &b2);
+        let x_fresh = solve(&mut fresh, &b2);
         let scale = x_fresh.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         for (a, b) in x2.iter().zip(&x_fresh) {
             assert!(

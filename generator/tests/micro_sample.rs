@@ -176,12 +176,27 @@ fn solve_table_shows_the_lateral_offset_of_a_sliding_top() {
 }
 
 /// `tcgen bench --only micro` runs the Sect. 5.7 path and reports every part
-/// of a Newton iteration in both phases; too few pressures are refused.
+/// of a Newton iteration in both phases; too few pressures are refused. Its
+/// LDLᵀ path (both phases) gives the jumps of the LU path, without falling
+/// back to LU, and analyses each pattern once.
 #[test]
 fn micro_sample_bench_reports_the_iteration_parts() {
     let b = tcgen::bench::micro_sample_bench(2).unwrap();
     assert_eq!(b.newton_iterations.len(), 2);
     assert!(b.wall_s > 0.0 && b.newton_iterations.iter().all(|&n| n > 0));
+    assert!(
+        b.jump_difference < 1e-9,
+        "LDLT vs LU: {:e}",
+        b.jump_difference
+    );
+    assert_eq!(b.linear_fallbacks, 0);
+    let iterations: usize = b.newton_iterations.iter().sum();
+    assert!(
+        b.analyses > 0 && 4 * b.analyses < iterations,
+        "{} analyses",
+        b.analyses
+    );
+    assert_eq!([b.iteration[0].kind, b.iteration[1].kind], ["LDLT + ND"; 2]);
     // Mechanical: displacements and multipliers; thermal: temperatures.
     assert!(b.iteration[0].n_eq > b.iteration[1].n_eq && b.iteration[1].n_eq > 0);
     for c in &b.iteration {

@@ -213,6 +213,16 @@ impl<'a> PathSolver<'a> {
         Ok(h.total_iterations())
     }
 
+    /// Newton iterations so far whose LDLᵀ fell back to LU ([`Newton::linear_fallbacks`]).
+    pub fn linear_fallbacks(&self) -> usize {
+        self.newton.linear_fallbacks()
+    }
+
+    /// Symbolic analyses of the linear solver so far ([`Newton::analyses`]).
+    pub fn analyses(&self) -> usize {
+        self.newton.analyses()
+    }
+
     /// The jumps (K, signed) of the last two-phase solve, one per
     /// self-consistency iteration; the first is the plain two-phase jump
     /// (Fig. 14a). For a multi-flux solve, those of the last flux.
@@ -451,6 +461,7 @@ impl<'a> PathSolver<'a> {
             }
             let mut next = PathSolver::with_bodies(case, self.geometry.clone(), bodies)?;
             next.capture = self.capture;
+            next.model.set_symmetric_solvers(src.symmetric_solvers());
             transfer_state(src, &mut next.model);
             next.last_pressure = pressure;
             let solved = match next.solve_fluxes_on_mesh(pressure, fluxes, true) {

@@ -6,9 +6,11 @@
 //! factors followed by a few steps of iterative refinement against the kept matrix.
 //!
 //! - [`Factorization::Cholesky`]: SPD systems (the thermal phase).
-//! - [`Factorization::Ldlt`]: symmetric quasi-definite saddle-point systems (the mechanical
-//!   phase: displacements + contact Lagrange multipliers), faer's LDLᵀ with dynamic
-//!   regularization towards the given pivot signs.
+//! - [`Factorization::Ldlt`]: symmetric saddle-point systems (the phases with contact Lagrange
+//!   multipliers), faer's LDLᵀ without pivoting, each multiplier eliminated after its
+//!   displacements; a factorization with a near-zero pivot (regularized) or failed, or a solve
+//!   whose backward error stays above [`LDLT_BACKWARD_ERROR_LIMIT`], falls back to LU
+//!   ([`LinearSolver::fallback`]).
 //! - [`Factorization::Lu`]: nonsymmetric systems; faer's supernodal LU with partial pivoting,
 //!   columns always ordered by COLAMD.
 
@@ -21,15 +23,16 @@ use faer::linalg::cholesky::ldlt::factor::{LdltError, LdltRegularization};
 use faer::linalg::cholesky::llt::factor::LltError;
 use faer::perm::PermRef;
 use faer::sparse::linalg::LuError;
+use faer::sparse::linalg::cholesky::supernodal::SupernodalLdltRef;
 use faer::sparse::linalg::cholesky::{
-    CholeskySymbolicParams, LdltRef, LltRef, SymbolicCholesky, SymmetricOrdering,
-    factorize_symbolic_cholesky,
+    CholeskySymbolicParams, LdltRef, LltRef, SymbolicCholesky, SymbolicCholeskyRaw,
+    SymmetricOrdering, factorize_symbolic_cholesky,
 };
 use faer::sparse::linalg::lu::{LuRef, NumericLu, SymbolicLu, factorize_symbolic_lu};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
-/// LDLᵀ pivots of the wrong sign or smaller than this times max|aᵢⱼ| are regularized.
+/// LDLᵀ pivots of magnitude at most this times max|aᵢⱼ| are regularized (then LU is used).
 pub const LDLT_REGULARIZATION_EPSILON: f64 = 1e-13;
 /// Regularized LDLᵀ pivots are set to ±(this times max|aᵢⱼ|).
 pub const LDLT_REGULARIZATION_DELTA: f64 = 1e-8;
@@ -41,6 +44,9 @@ pub const PARALLEL_FACTORIZATION_MIN_EQ: usize = 20_000;
 pub const MAX_REFINEMENT_STEPS: usize = 3;
 /// Refinement stops once ‖b − Ax‖∞ ≤ this × (‖A‖∞‖x‖∞ + ‖b‖∞).
 pub const REFINEMENT_TOLERANCE: f64 = 1e-14;
+/// An LDLᵀ solve whose backward error ‖b − Ax‖∞ / (‖A‖∞‖x‖∞ + ‖b‖∞) stays above this after
+/// refinement is repeated with LU.
+pub const LDLT_BACKWARD_ERROR_LIMIT: f64 = 1e-10;
 
 /// Which factorization of the global matrix.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -49,13 +55,15 @@ pub enum Factorization {
     Lu,
     /// A = LLᵀ, symmetric positive definite matrices; fails on a non-positive pivot.
     Cholesky,
-    /// A = LDLᵀ without pivoting, symmetric quasi-definite matrices. `signs[i]` is the expected
-    /// sign of equation i's pivot: +1 for displacement rows, −1 for Lagrange multiplier rows
-    /// (0: no expectation). Pivots of the wrong sign or near zero are replaced by
-    /// ±[`LDLT_REGULARIZATION_DELTA`]·max|aᵢⱼ| (faer's dynamic regularization). The ordering is
-    /// adjusted so that each −1 equation is eliminated after all +1 equations it couples to;
-    /// then, for an SPD displacement block and a full-rank constraint block, every pivot has
-    /// its expected sign and no regularization occurs.
+    /// A = LDLᵀ without pivoting, symmetric (quasi-definite) matrices. `signs[i]` is the
+    /// expected sign of equation i's pivot: +1 for displacement rows, −1 for Lagrange multiplier
+    /// rows (0: no expectation). The ordering is adjusted so that each −1 equation is
+    /// eliminated after all +1 equations it couples to; then, for an SPD displacement block and
+    /// a full-rank constraint block, every pivot has its expected sign. Pivots of the other sign
+    /// (an indefinite displacement block) are kept, exact, and counted
+    /// ([`LinearSolver::sign_mismatches`]); near-zero pivots are replaced by
+    /// ±[`LDLT_REGULARIZATION_DELTA`]·max|aᵢⱼ| (faer's dynamic regularization), and such a
+    /// factorization is not used: the matrix is factorized by LU instead.
     Ldlt {
         /// Expected pivot sign per equation (−1, 0 or +1).
         signs: Vec<i8>,
@@ -97,6 +105,15 @@ pub struct LinearSolver {
     factorized: bool,
     /// Numeric factorization workspace, kept across refactorizations.
     workspace: Option<(StackReq, MemBuffer)>,
+    /// LDLᵀ only: the LU of the same pattern that replaces a regularized or failed
+    /// factorization (analysed on first use, then kept).
+    lu: Option<Box<LinearSolver>>,
+    /// Why the current factors are the fallback LU's (`None`: they are LDLᵀ's own).
+    fallback: Option<String>,
+    /// Factorizations that fell back to LU so far.
+    fallbacks: usize,
+    /// LDLᵀ pivots of the last factorization whose sign is not the expected one.
+    sign_mismatches: usize,
 }
 
 impl std::fmt::Debug for LinearSolver {
@@ -107,6 +124,7 @@ impl std::fmt::Debug for LinearSolver {
             .field("nnz", &self.values.len())
             .field("factor_nnz", &self.factor_nnz())
             .field("factorized", &self.factorized)
+            .field("fallback", &self.fallback)
             .finish()
     }
 }
@@ -196,13 +214,18 @@ impl LinearSolver {
             norm_inf: 0.0,
             factorized: false,
             workspace: None,
+            lu: None,
+            fallback: None,
+            fallbacks: 0,
+            sign_mismatches: 0,
         })
     }
 
     /// Numeric factorization of the matrix with the analysed pattern and `values` (CSC, one per
-    /// pattern entry), reusing the symbolic analysis and the numeric storage. Fails with
-    /// [`Error::LinearSolver`] naming the failure (non-positive Cholesky pivot, zero LDLᵀ pivot,
-    /// structurally singular LU, non-finite values).
+    /// pattern entry), reusing the symbolic analysis and the numeric storage. An LDLᵀ that
+    /// regularizes a pivot or fails is replaced by LU ([`Self::fallback`] says why). Fails with
+    /// [`Error::LinearSolver`] naming the failure (non-positive Cholesky pivot, structurally
+    /// singular LU, non-finite values).
     #[track_caller]
     pub fn factorize(&mut self, values: &[f64]) -> Result<()> {
         assert_eq!(
@@ -211,6 +234,8 @@ impl LinearSolver {
             "factorize: one value per pattern entry"
         );
         self.factorized = false;
+        self.fallback = None;
+        self.sign_mismatches = 0;
         if let Some(i) = values.iter().position(|v| !v.is_finite()) {
             return Err(Error::LinearSolver(format!(
                 "matrix entry {i} is not finite ({})",
@@ -219,6 +244,21 @@ impl LinearSolver {
         }
         self.values.copy_from_slice(values);
         self.norm_inf = row_sum_norm(self.pattern.as_ref(), values);
+        let reason = match self.factorize_numeric() {
+            Ok(None) => {
+                self.factorized = true;
+                return Ok(());
+            }
+            Ok(Some(reason)) => reason,
+            Err(e) if matches!(self.kind, Factorization::Ldlt { .. }) => message(e),
+            Err(e) => return Err(e),
+        };
+        self.fall_back(reason)
+    }
+
+    /// The numeric factorization of the kept values by the solver's own kind; for LDLᵀ, why it
+    /// is not to be used (regularized pivots), if so.
+    fn factorize_numeric(&mut self) -> Result<Option<String>> {
         let par = self.par();
         let req = match &self.factors {
             Factors::Lu { symbolic, .. } => {
@@ -250,47 +290,73 @@ impl LinearSolver {
             }
             Factors::Cholesky { symbolic, l_values } => match &self.kind {
                 Factorization::Ldlt { signs } => {
-                    let amax = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                    let amax = self.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                    let delta = LDLT_REGULARIZATION_DELTA * amax;
+                    // No signs: pivots of either sign are kept, near-zero ones regularized.
                     let regularization = LdltRegularization {
-                        dynamic_regularization_signs: Some(signs),
-                        dynamic_regularization_delta: LDLT_REGULARIZATION_DELTA * amax,
+                        dynamic_regularization_signs: None,
+                        dynamic_regularization_delta: delta,
                         dynamic_regularization_epsilon: LDLT_REGULARIZATION_EPSILON * amax,
                     };
-                    let perm = symbolic.perm().map(|p| p.arrays().0.to_vec());
                     symbolic
                         .factorize_numeric_ldlt(l_values, a, Side::Lower, regularization, par, stack, Default::default())
                         .map_err(|e| {
                             let LdltError::ZeroPivot { index } = e;
-                            let eq = perm.as_ref().map_or(index, |p| p[index]);
                             Error::LinearSolver(format!(
-                                "LDLT: zero pivot at elimination step {index} (equation {eq}); the matrix is singular"
+                                "LDLT: zero pivot at elimination step {index} (equation {}); the matrix is singular",
+                                original_equation(symbolic, index)
                             ))
                         })?;
+                    let pivots = Pivots::of(symbolic, l_values, delta, signs);
+                    self.sign_mismatches = pivots.sign_mismatches;
+                    if pivots.regularized > 0 {
+                        return Ok(Some(format!(
+                            "LDLT: {} near-zero pivot(s) regularized (the first at equation {})",
+                            pivots.regularized, pivots.first_regularized
+                        )));
+                    }
                 }
                 _ => {
-                    let perm = symbolic.perm().map(|p| p.arrays().0.to_vec());
                     symbolic
                         .factorize_numeric_llt(l_values, a, Side::Lower, Default::default(), par, stack, Default::default())
                         .map_err(|e| {
                             let LltError::NonPositivePivot { index } = e;
-                            let eq = perm.as_ref().map_or(index, |p| p[index]);
                             Error::LinearSolver(format!(
-                                "Cholesky: non-positive pivot at elimination step {index} (equation {eq}); \
-                                 the matrix is not positive definite"
+                                "Cholesky: non-positive pivot at elimination step {index} (equation {}); \
+                                 the matrix is not positive definite",
+                                original_equation(symbolic, index)
                             ))
                         })?;
                 }
             },
         }
+        Ok(None)
+    }
+
+    /// Factorizes the kept values by the fallback LU (analysed on first use), recording `reason`.
+    fn fall_back(&mut self, reason: String) -> Result<()> {
+        self.factorized = false;
+        let failed = |e| Error::LinearSolver(format!("{reason}; the fallback LU: {}", message(e)));
+        if self.lu.is_none() {
+            let lu = LinearSolver::new(self.pattern.as_ref(), Factorization::Lu, Ordering::Default)
+                .map_err(failed)?;
+            self.lu = Some(Box::new(lu));
+        }
+        let lu = self.lu.as_mut().expect("analysed above");
+        lu.factorize(&self.values).map_err(failed)?;
+        self.fallbacks += 1;
+        self.fallback = Some(reason);
         self.factorized = true;
         Ok(())
     }
 
     /// Solves A x = rhs with the current factors, x overwriting `rhs`, followed by up to
-    /// [`MAX_REFINEMENT_STEPS`] steps of iterative refinement. Fails if [`Self::factorize`] has
-    /// not succeeded or the solution is not finite (numerically singular matrix).
+    /// [`MAX_REFINEMENT_STEPS`] steps of iterative refinement. An LDLᵀ solve whose backward
+    /// error stays above [`LDLT_BACKWARD_ERROR_LIMIT`] (or is not finite) is repeated with LU.
+    /// Fails if [`Self::factorize`] has not succeeded or the solution is not finite
+    /// (numerically singular matrix).
     #[track_caller]
-    pub fn solve_in_place(&self, rhs: &mut [f64]) -> Result<()> {
+    pub fn solve_in_place(&mut self, rhs: &mut [f64]) -> Result<()> {
         let n = self.n_eq();
         assert_eq!(rhs.len(), n, "solve_in_place: rhs.len() must equal n_eq");
         if !self.factorized {
@@ -298,6 +364,31 @@ impl LinearSolver {
                 "solve called without a successful factorization".into(),
             ));
         }
+        if self.fallback.is_some() {
+            let lu = self.lu.as_mut().expect("a fallback has its LU");
+            return lu.solve_in_place(rhs);
+        }
+        if !matches!(self.kind, Factorization::Ldlt { .. }) {
+            return self.refined_solve(rhs).map(|_| ());
+        }
+        let b = rhs.to_vec();
+        let reason = match self.refined_solve(rhs) {
+            Ok(e) if e <= LDLT_BACKWARD_ERROR_LIMIT => return Ok(()),
+            Ok(e) => format!("LDLT solve: backward error {e:.1e} after refinement"),
+            Err(e) => message(e),
+        };
+        self.fall_back(reason)?;
+        rhs.copy_from_slice(&b);
+        self.lu
+            .as_mut()
+            .expect("a fallback has its LU")
+            .solve_in_place(rhs)
+    }
+
+    /// Solve and iterative refinement with the solver's own factors; returns the backward
+    /// error ‖b − Ax‖∞ / (‖A‖∞‖x‖∞ + ‖b‖∞) of the result.
+    fn refined_solve(&self, rhs: &mut [f64]) -> Result<f64> {
+        let n = self.n_eq();
         let b = rhs.to_vec();
         let norm_b = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         let mut stack_buffer = MemBuffer::try_new(self.solve_scratch())
@@ -311,24 +402,44 @@ impl LinearSolver {
         }
         let mut residual = vec![0.0; n];
         let mut previous = f64::INFINITY;
-        for _ in 0..MAX_REFINEMENT_STEPS {
+        let mut steps = 0;
+        loop {
             residual.copy_from_slice(&b);
             self.subtract_product(rhs, &mut residual);
             let norm_r = residual.iter().fold(0.0f64, |m, v| m.max(v.abs()));
             let norm_x = rhs.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            if norm_r <= REFINEMENT_TOLERANCE * (self.norm_inf * norm_x + norm_b)
+            let scale = self.norm_inf * norm_x + norm_b;
+            if norm_r <= REFINEMENT_TOLERANCE * scale
                 || norm_r > 0.5 * previous
+                || steps == MAX_REFINEMENT_STEPS
             {
-                break;
+                return Ok(if scale > 0.0 { norm_r / scale } else { norm_r });
             }
             previous = norm_r;
+            steps += 1;
             self.apply_inverse(&mut residual, stack);
             if residual.iter().any(|v| !v.is_finite()) {
-                break;
+                return Ok(if scale > 0.0 { norm_r / scale } else { norm_r });
             }
             rhs.iter_mut().zip(&residual).for_each(|(x, d)| *x += d);
         }
-        Ok(())
+    }
+
+    /// Why the current factors are LU's rather than this LDLᵀ solver's own (a regularized or
+    /// failed factorization, or an inaccurate solve); `None` when they are its own.
+    pub fn fallback(&self) -> Option<&str> {
+        self.fallback.as_deref()
+    }
+
+    /// How many factorizations fell back to LU so far.
+    pub fn fallbacks(&self) -> usize {
+        self.fallbacks
+    }
+
+    /// LDLᵀ pivots of the last factorization whose sign is not the expected one (the
+    /// displacement block is indefinite there); 0 for the other kinds.
+    pub fn sign_mismatches(&self) -> usize {
+        self.sign_mismatches
     }
 
     /// The factorization kind.
@@ -484,4 +595,69 @@ fn out_of_memory(bytes: usize) -> Error {
     Error::LinearSolver(format!(
         "out of memory allocating {bytes} bytes for the factorization"
     ))
+}
+
+/// The message of an [`Error::LinearSolver`] (else the error's text).
+fn message(e: Error) -> String {
+    match e {
+        Error::LinearSolver(m) => m,
+        e => e.to_string(),
+    }
+}
+
+/// The original equation eliminated at step `index` (faer's index, clamped to the matrix).
+fn original_equation(symbolic: &SymbolicCholesky<usize>, index: usize) -> usize {
+    let k = index.min(symbolic.nrows().saturating_sub(1));
+    symbolic.perm().map_or(k, |p| p.arrays().0[k])
+}
+
+/// The pivots D of an LDLᵀ factor against the expected signs.
+struct Pivots {
+    /// Pivots that faer's dynamic regularization replaced (set to exactly ±delta).
+    regularized: usize,
+    /// The original equation of the first of them in elimination order.
+    first_regularized: usize,
+    /// Pivots whose sign is not the expected (nonzero) one.
+    sign_mismatches: usize,
+}
+
+impl Pivots {
+    fn of(symbolic: &SymbolicCholesky<usize>, l_values: &[f64], delta: f64, signs: &[i8]) -> Self {
+        let perm = symbolic.perm().map(|p| p.arrays().0);
+        let mut out = Pivots {
+            regularized: 0,
+            first_regularized: 0,
+            sign_mismatches: 0,
+        };
+        let mut check = |k: usize, d: f64| {
+            let eq = perm.map_or(k, |p| p[k]);
+            if delta > 0.0 && d.abs() == delta {
+                out.regularized += 1;
+                if out.regularized == 1 {
+                    out.first_regularized = eq;
+                }
+            }
+            if d * f64::from(signs[eq]) < 0.0 {
+                out.sign_mismatches += 1;
+            }
+        };
+        match symbolic.raw() {
+            SymbolicCholeskyRaw::Simplicial(s) => {
+                for (k, &start) in s.col_ptr()[..s.ncols()].iter().enumerate() {
+                    check(k, l_values[start]);
+                }
+            }
+            SymbolicCholeskyRaw::Supernodal(s) => {
+                let factor = SupernodalLdltRef::new(s, l_values);
+                for i in 0..s.n_supernodes() {
+                    let node = factor.supernode(i);
+                    let d = node.val();
+                    for j in 0..d.ncols() {
+                        check(node.start() + j, d[(j, j)]);
+                    }
+                }
+            }
+        }
+        out
+    }
 }

@@ -395,6 +395,7 @@ impl ModelBuilder {
             elements: Vec::new(),
             eq_class: Vec::new(),
             eq_coords: Vec::new(),
+            symmetric_solvers: true,
         };
         model.renumber()?;
         Ok(model)
@@ -441,9 +442,42 @@ pub struct Model {
     elements: Vec<(usize, usize)>,
     eq_class: Vec<usize>,
     eq_coords: Vec<[f64; 3]>,
+    /// Whether symmetric tangents get Cholesky/LDLᵀ (else always LU).
+    symmetric_solvers: bool,
 }
 
 impl Model {
+    /// Whether the assembled tangent is symmetric: the gradient of a
+    /// potential in the unknowns of the phase. The mechanical phase is
+    /// (hyperelastic bulk at frozen temperatures, the augmented Lagrangian
+    /// normal contact (4.9)–(4.10), ties and platens through the equation
+    /// numbering, the sliding platens' diagonal regularization); so is the
+    /// thermal phase with constant conductivities (`k1 = 0` (5.1), or
+    /// frozen): every thermal contact model is quadratic in the temperatures
+    /// there (frozen configuration and pressures). The coupled problem and
+    /// `k(θ)` conduction are not.
+    pub fn symmetric_tangent(&self) -> bool {
+        match self.coupling {
+            Coupling::Mechanical => true,
+            Coupling::Thermal => self
+                .bodies
+                .iter()
+                .all(|b| b.material.conductivity_slope == 0.0),
+            Coupling::Coupled => false,
+        }
+    }
+
+    /// Turns the symmetric factorizations (Cholesky, LDLᵀ) of symmetric
+    /// tangents on (the default) or off (LU for every phase, e.g. to compare).
+    pub fn set_symmetric_solvers(&mut self, on: bool) {
+        self.symmetric_solvers = on;
+    }
+
+    /// Whether symmetric tangents get Cholesky/LDLᵀ ([`Model::set_symmetric_solvers`]).
+    pub fn symmetric_solvers(&self) -> bool {
+        self.symmetric_solvers
+    }
+
     /// Which contact unknowns and terms the current coupling carries.
     fn contact_unknowns(&self) -> Option<Unknowns> {
         let c = self.contact.as_ref()?;
@@ -957,17 +991,31 @@ impl NonlinearProblem for Model {
         self.pattern_version
     }
 
-    fn factorization(&self) -> (Factorization, Ordering) {
-        let nd = || Ordering::Custom(nested_dissection(self.assembly.symbolic(), &self.eq_coords));
-        let multipliers = self.mult_eq.0.is_some() || self.mult_eq.1.is_some();
-        let constant_k = self
-            .bodies
+    /// Cholesky without multipliers and LDLᵀ with them where the tangent is
+    /// symmetric ([`Model::symmetric_tangent`]), LU elsewhere or when
+    /// [`Model::set_symmetric_solvers`] turned them off.
+    fn factorization(&self) -> Factorization {
+        if !(self.symmetric_solvers && self.symmetric_tangent()) {
+            return Factorization::Lu;
+        }
+        if self.mult_eq == (None, None) {
+            return Factorization::Cholesky;
+        }
+        // Quasi-definite: +1 for the bulk unknowns, −1 for λN and λθ.
+        let signs = self
+            .eq_class
             .iter()
-            .all(|b| b.material.conductivity_slope == 0.0);
-        match self.coupling {
-            Coupling::Mechanical if !multipliers => (Factorization::Cholesky, nd()),
-            Coupling::Thermal if !multipliers && constant_k => (Factorization::Cholesky, nd()),
-            _ => (Factorization::Lu, Ordering::Default),
+            .map(|&c| if c < 2 { 1 } else { -1 })
+            .collect();
+        Factorization::Ldlt { signs }
+    }
+
+    /// Nested dissection on the equations' reference coordinates (a
+    /// multiplier at its slave node) for Cholesky and LDLᵀ, COLAMD for LU.
+    fn ordering(&self, kind: &Factorization) -> Ordering {
+        match kind {
+            Factorization::Lu => Ordering::Default,
+            _ => Ordering::Custom(nested_dissection(self.assembly.symbolic(), &self.eq_coords)),
         }
     }
 

@@ -21,9 +21,13 @@ pub trait NonlinearProblem {
     fn pattern_version(&self) -> u64 {
         0
     }
-    /// Which factorization suits the tangent, and with which ordering.
-    fn factorization(&self) -> (Factorization, Ordering) {
-        (Factorization::Lu, Ordering::Default)
+    /// Which factorization suits the tangent (queried when the pattern changes).
+    fn factorization(&self) -> Factorization {
+        Factorization::Lu
+    }
+    /// The fill-reducing ordering for `kind` (queried once per analysed pattern).
+    fn ordering(&self, _kind: &Factorization) -> Ordering {
+        Ordering::Default
     }
     /// Updates state-dependent data (e.g. contact projections) before the
     /// pattern is queried and the system assembled; may change the pattern.
@@ -108,6 +112,10 @@ impl Default for LoadStepping {
 pub struct IterationRecord {
     /// Residual norms per field class.
     pub residuals: Vec<f64>,
+    /// Why the increment was solved by LU instead of the symmetric factorization, if it was
+    /// ([`LinearSolver::fallback`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub linear_fallback: Option<String>,
 }
 
 /// One converged load step.
@@ -129,6 +137,15 @@ pub struct SolveHistory {
 }
 
 impl SolveHistory {
+    /// Iterations of the converged steps whose increment fell back to LU.
+    pub fn linear_fallbacks(&self) -> usize {
+        self.steps
+            .iter()
+            .flat_map(|s| &s.iterations)
+            .filter(|i| i.linear_fallback.is_some())
+            .count()
+    }
+
     /// Total Newton iterations over all converged steps.
     pub fn total_iterations(&self) -> usize {
         self.steps
@@ -139,10 +156,9 @@ impl SolveHistory {
 }
 
 /// Newton's method with kept linear solvers: the symbolic analysis of a
-/// pattern is reused while it does not change, and when it comes back (the
-/// phases of the two-phase framework alternate between two patterns). A
-/// `Newton` serves one problem, whose pattern determines the factorization
-/// kind; use a new one for another problem.
+/// pattern is reused while the pattern and the factorization kind do not
+/// change, and when they come back (the phases of the two-phase framework
+/// alternate between two patterns).
 pub struct Newton {
     /// Iteration settings.
     pub settings: NewtonSettings,
@@ -152,6 +168,10 @@ pub struct Newton {
     version: Option<u64>,
     /// Analysed solvers, most recently used first.
     solvers: Vec<LinearSolver>,
+    /// Iterations whose symmetric factorization fell back to LU.
+    linear_fallbacks: usize,
+    /// Symbolic analyses performed.
+    analyses: usize,
 }
 
 /// How many analysed patterns a [`Newton`] keeps.
@@ -165,7 +185,21 @@ impl Newton {
             stepping,
             version: None,
             solvers: Vec::new(),
+            linear_fallbacks: 0,
+            analyses: 0,
         }
+    }
+
+    /// Symbolic analyses (ordering and factor structure) performed so far:
+    /// one per new pattern and factorization kind.
+    pub fn analyses(&self) -> usize {
+        self.analyses
+    }
+
+    /// Iterations so far (failed load steps included) whose symmetric
+    /// factorization fell back to LU.
+    pub fn linear_fallbacks(&self) -> usize {
+        self.linear_fallbacks
     }
 
     fn field_norms<P: NonlinearProblem + ?Sized>(p: &P, r: &[f64]) -> Vec<f64> {
@@ -198,16 +232,20 @@ impl Newton {
             p.prepare()?;
             let version = p.pattern_version();
             if self.version != Some(version) {
-                // For one problem the pattern determines the factorization
-                // kind (the coupling and the multipliers set both).
-                match self.solvers.iter().position(|l| l.analyses(p.pattern())) {
+                let kind = p.factorization();
+                match self
+                    .solvers
+                    .iter()
+                    .position(|l| *l.kind() == kind && l.analyses(p.pattern()))
+                {
                     Some(i) => {
                         let kept = self.solvers.remove(i);
                         self.solvers.insert(0, kept);
                     }
                     None => {
-                        let (kind, ordering) = p.factorization();
+                        let ordering = p.ordering(&kind);
                         let solver = LinearSolver::new(p.pattern(), kind, ordering)?;
+                        self.analyses += 1;
                         self.solvers.insert(0, solver);
                         self.solvers.truncate(KEPT_SOLVERS);
                     }
@@ -223,6 +261,7 @@ impl Newton {
             }
             history.push(IterationRecord {
                 residuals: norms.clone(),
+                linear_fallback: None,
             });
             if std::env::var_os("TCGEN_TRACE").is_some() {
                 eprintln!("  step {step} λ={load_factor:.4} it {it}: {norms:?}");
@@ -261,6 +300,14 @@ impl Newton {
             solver
                 .solve_in_place(&mut r)
                 .map_err(|e| fail(it, e.to_string()))?;
+            if let Some(reason) = solver.fallback() {
+                self.linear_fallbacks += 1;
+                if std::env::var_os("TCGEN_TRACE").is_some() {
+                    eprintln!("  step {step} λ={load_factor:.4} it {it}: solved by LU: {reason}");
+                }
+                let record = history.last_mut().expect("pushed above");
+                record.linear_fallback = Some(reason.to_string());
+            }
             if r.iter().any(|v| !v.is_finite()) {
                 return Err(fail(it, "non-finite increment".into()));
             }
@@ -341,5 +388,96 @@ impl Newton {
             }
         }
         Ok(hist)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use faer::sparse::{SymbolicSparseColMat, SymbolicSparseColMatRef};
+
+    /// `R(x) = A x − b` with a symmetric `A` whose LDLᵀ meets a zero pivot in
+    /// any ordering (regularized).
+    struct Indefinite {
+        pattern: SymbolicSparseColMat<usize>,
+        x: Vec<f64>,
+    }
+
+    const A: [[f64; 3]; 3] = [[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 3.0]];
+
+    impl NonlinearProblem for Indefinite {
+        fn n_eq(&self) -> usize {
+            3
+        }
+        fn eq_fields(&self) -> &[usize] {
+            &[0, 0, 0]
+        }
+        fn field_names(&self) -> &[&'static str] {
+            &["x"]
+        }
+        fn pattern(&self) -> SymbolicSparseColMatRef<'_, usize> {
+            self.pattern.as_ref()
+        }
+        fn factorization(&self) -> Factorization {
+            Factorization::Ldlt {
+                signs: vec![1, 1, 1],
+            }
+        }
+        fn set_load(&mut self, _: f64) {}
+        fn assemble(&mut self, values: Option<&mut [f64]>, residual: &mut [f64]) -> Result<()> {
+            for (i, r) in residual.iter_mut().enumerate() {
+                *r = (0..3).map(|j| A[i][j] * self.x[j]).sum::<f64>() - 1.0;
+            }
+            if let Some(v) = values {
+                for j in 0..3 {
+                    for i in 0..3 {
+                        v[3 * j + i] = A[i][j];
+                    }
+                }
+            }
+            Ok(())
+        }
+        fn load_norms(&self) -> Vec<f64> {
+            vec![3f64.sqrt()]
+        }
+        fn update(&mut self, dx: &[f64]) {
+            self.x.iter_mut().zip(dx).for_each(|(x, d)| *x += d);
+        }
+        fn save(&self) -> Vec<f64> {
+            self.x.clone()
+        }
+        fn restore(&mut self, state: &[f64]) {
+            self.x.copy_from_slice(state);
+        }
+    }
+
+    /// A regularized LDLᵀ is replaced by LU: Newton converges in one step to
+    /// the exact solution, and the iteration records why.
+    #[test]
+    fn regularized_ldlt_increment_is_solved_by_lu() {
+        let full = SymbolicSparseColMat::new_checked(
+            3,
+            3,
+            vec![0, 3, 6, 9],
+            None,
+            vec![0, 1, 2, 0, 1, 2, 0, 1, 2],
+        );
+        let mut p = Indefinite {
+            pattern: full,
+            x: vec![0.0; 3],
+        };
+        let mut newton = Newton::new(NewtonSettings::default(), LoadStepping::default());
+        let history = newton.solve(&mut p).unwrap();
+        assert_eq!(p.x, [1.0, 1.0, 1.0 / 3.0]);
+        assert_eq!(history.total_iterations(), 1);
+        assert_eq!(
+            (history.linear_fallbacks(), newton.linear_fallbacks()),
+            (1, 1)
+        );
+        let reason = history.steps[0].iterations[0].linear_fallback.as_ref();
+        assert!(
+            reason.is_some_and(|r| r.contains("regularized")),
+            "{reason:?}"
+        );
     }
 }

@@ -290,7 +290,8 @@ pub fn platen_compliance(model: &mut Model, pressure: f64) -> Result<f64> {
     let mut r1 = vec![0.0; n];
     model.set_load(1.0);
     model.assemble(Some(&mut values), &mut r1)?;
-    let (kind, ordering) = model.factorization();
+    let kind = model.factorization();
+    let ordering = model.ordering(&kind);
     let mut solver = LinearSolver::new(model.pattern(), kind, ordering)?;
     solver.factorize(&values)?;
     let mut dx: Vec<f64> = r1.iter().zip(&r0).map(|(a, b)| b - a).collect();
