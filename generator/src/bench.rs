@@ -726,6 +726,9 @@ fn micro_path<'a>(
     Ok((t.elapsed().as_secs_f64(), solver, points))
 }
 
+/// Wall time (s) and Newton iterations per phase (mechanical, thermal, coupled).
+pub type PhaseCost = [(f64, usize); 3];
+
 /// Runs the micro-sample path benchmark.
 pub fn micro_sample_bench(pressures: usize) -> Result<MicroBench> {
     use crate::bulk::Coupling;
@@ -1182,4 +1185,95 @@ mod tests {
             "{table}"
         );
     }
+}
+
+/// One pressure of the 3D egg-box benchmark (`tcgen bench --only egg-box`).
+#[derive(Clone, Debug)]
+pub struct EggBoxBenchRow {
+    /// Pressure (Pa).
+    pub pressure: f64,
+    /// Jump (K).
+    pub jump: f64,
+    /// Contact fraction.
+    pub contact_fraction: f64,
+    /// Newton iterations of the point (all phases).
+    pub newton_iterations: usize,
+    /// Self-consistency iterations.
+    pub self_consistency_iterations: usize,
+    /// Wall time of the point (s).
+    pub wall_s: f64,
+}
+
+/// The 3D egg-box benchmark: the path of `tables/egg_box_on_flat.toml`
+/// (two-phase self-consistent, 10 pressures from 1 kPa to `p*/2`), with the
+/// case's mesh refined `interface_levels` times at the interface: per
+/// pressure the jump, contact fraction, iterations and wall time; the
+/// unknowns, the time per phase and the peak resident memory.
+pub fn egg_box_bench(interface_levels: usize) -> Result<(usize, PhaseCost, Vec<EggBoxBenchRow>)> {
+    let mut case = crate::sample::Case::from_toml(
+        include_str!("../../tables/egg_box_on_flat.toml"),
+        std::path::Path::new("."),
+    )?;
+    case.discretization.interface_levels = interface_levels;
+    let mut solver = crate::homogenize::path::PathSolver::new(&case)?;
+    let mut rows = Vec::new();
+    let mut dofs = 0;
+    for &p in &case.load.pressures {
+        let t = Instant::now();
+        let r = solver.solve_pressure(p)?;
+        dofs = r.dofs;
+        rows.push(EggBoxBenchRow {
+            pressure: p,
+            jump: r.jump,
+            contact_fraction: r.interface.contact_fraction,
+            newton_iterations: r.newton_iterations,
+            self_consistency_iterations: r.self_consistency_iterations,
+            wall_s: t.elapsed().as_secs_f64(),
+        });
+    }
+    Ok((dofs, solver.phase_cost(), rows))
+}
+
+/// Peak resident memory of this process (bytes; Linux `VmHWM`), if known.
+pub fn peak_resident_bytes() -> Option<u64> {
+    let s = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = s.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+/// The egg-box benchmark as text.
+pub fn format_egg_box_bench(
+    interface_levels: usize,
+    dofs: usize,
+    phases: PhaseCost,
+    rows: &[EggBoxBenchRow],
+) -> String {
+    let mut s = format!(
+        "3D egg box on a flat (tables/egg_box_on_flat.toml, p = 2, interface_levels = {interface_levels}): \
+         {dofs} unknowns, two-phase self-consistent\n\
+         {:>10} {:>10} {:>9} {:>7} {:>4} {:>8}\n",
+        "p (Pa)", "jump (K)", "fraction", "Newton", "SC", "wall s"
+    );
+    for r in rows {
+        s += &format!(
+            "{:>10.4e} {:>10.5} {:>9.4} {:>7} {:>4} {:>8.2}\n",
+            r.pressure,
+            r.jump,
+            r.contact_fraction,
+            r.newton_iterations,
+            r.self_consistency_iterations,
+            r.wall_s
+        );
+    }
+    let total: f64 = rows.iter().map(|r| r.wall_s).sum();
+    s += &format!(
+        "total {total:.1} s; mechanical phase {:.1} s ({} Newton iterations), thermal phase {:.1} s ({} iterations)",
+        phases[0].0, phases[0].1, phases[1].0, phases[1].1
+    );
+    match peak_resident_bytes() {
+        Some(b) => s += &format!("; peak resident memory {:.0} MB\n", b as f64 / 1e6),
+        None => s += "\n",
+    }
+    s
 }

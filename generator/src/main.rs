@@ -162,6 +162,9 @@ enum Command {
         /// NURBS degree of the 3D solver benchmark.
         #[arg(long, default_value_t = 2)]
         degree: usize,
+        /// Interface refinement levels of the 3D egg-box benchmark.
+        #[arg(long, default_value_t = 0)]
+        levels: usize,
     },
 }
 
@@ -175,6 +178,8 @@ enum BenchPart {
     Accuracy,
     /// 3D direct solvers: factorization time and memory versus unknowns (p = 2 cube).
     Solvers3d,
+    /// The 3D egg box on a flat along 10 pressures (tables/egg_box_on_flat.toml).
+    EggBox,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -1022,8 +1027,17 @@ fn main() -> ExitCode {
             finest,
             cube,
             degree,
+            levels,
         } => {
             let run = || -> tcgen::Result<()> {
+                if only == Some(BenchPart::EggBox) {
+                    let (dofs, phases, rows) = tcgen::bench::egg_box_bench(levels)?;
+                    print!(
+                        "{}",
+                        tcgen::bench::format_egg_box_bench(levels, dofs, phases, &rows)
+                    );
+                    return Ok(());
+                }
                 if only == Some(BenchPart::Solvers3d) {
                     let rows = tcgen::bench::solver_3d_bench(degree, &cube)?;
                     print!("{}", tcgen::bench::format_solver_3d_bench(degree, &rows));

@@ -61,6 +61,32 @@ fn patch_tests_3d() {
     assert_pass(&contact::patch_3d().unwrap());
 }
 
+/// The 3D egg box on a coarse mesh: conductance against Barber's analogy
+/// at 0.1 and 0.3 p* (the default suite); the catalogue's sample with the
+/// JGH asymptotes in the long run.
+#[test]
+fn egg_box_3d() {
+    use tcgen::verify::contact::egg_box::{EggBoxSample, EggBoxTolerances, egg_box_checks};
+    let rows = EggBoxSample::coarse().rows(&[0.1, 0.3]).unwrap();
+    for r in &rows {
+        println!(
+            "{r:?}: Barber {:.4e}, Hertz fraction {:.4}",
+            r.barber(),
+            r.hertz()
+        );
+    }
+    let tol = EggBoxTolerances {
+        hertz: 0.5,
+        near_full: 0.5,
+        barber: 0.1,
+        barber_near_full: 0.2,
+    };
+    assert_pass(&egg_box_checks("egg_box_coarse", &rows, tol));
+    if long() {
+        assert_pass(&contact::egg_box_default().unwrap());
+    }
+}
+
 #[test]
 fn hertz_p2_coarse() {
     assert_pass(&contact::hertz_default().unwrap());

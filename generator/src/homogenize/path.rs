@@ -117,6 +117,9 @@ pub struct PathSolver<'a> {
     /// The fields of the last solved point, when capturing.
     fields: Option<Fields>,
     history: Vec<f64>,
+    /// Wall time (s) and Newton iterations spent per phase so far
+    /// (mechanical, thermal, coupled).
+    phase_cost: [(f64, usize); 3],
 }
 
 /// What one thermal phase gives.
@@ -183,6 +186,7 @@ impl<'a> PathSolver<'a> {
             capture: false,
             fields: None,
             history: Vec::new(),
+            phase_cost: [(0.0, 0); 3],
         })
     }
 
@@ -209,8 +213,24 @@ impl<'a> PathSolver<'a> {
             );
         }
         self.model.set_path(from, to);
-        let h = self.newton.solve(&mut self.model)?;
+        let start = std::time::Instant::now();
+        let phase = match self.model.coupling() {
+            Coupling::Mechanical => 0,
+            Coupling::Thermal => 1,
+            Coupling::Coupled => 2,
+        };
+        let h = self.newton.solve(&mut self.model);
+        let cost = &mut self.phase_cost[phase];
+        cost.0 += start.elapsed().as_secs_f64();
+        let h = h?;
+        cost.1 += h.total_iterations();
         Ok(h.total_iterations())
+    }
+
+    /// Wall time (s) and Newton iterations spent so far in the mechanical,
+    /// thermal and coupled phases (benchmarks).
+    pub fn phase_cost(&self) -> [(f64, usize); 3] {
+        self.phase_cost
     }
 
     /// Newton iterations so far whose LDLᵀ fell back to LU ([`Newton::linear_fallbacks`]).

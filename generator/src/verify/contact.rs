@@ -18,6 +18,7 @@
 //! achieved with a margin, and its reason (a quadrature or discretization
 //! error whose convergence was measured, or the benchmark's modelling error).
 
+pub mod egg_box;
 pub mod hertz;
 pub mod patch;
 pub mod robustness;
@@ -297,6 +298,17 @@ pub fn patch_3d() -> Result<Vec<Check>> {
         1e-3,
     ));
     Ok(v)
+}
+
+/// The 3D egg box on a flat ([`egg_box`]) on the default sample, at
+/// [`egg_box::RATIOS`] of `p*`.
+pub fn egg_box_default() -> Result<Vec<Check>> {
+    let rows = egg_box::EggBoxSample::default().rows(&egg_box::RATIOS)?;
+    Ok(egg_box::egg_box_checks(
+        "contact_egg_box",
+        &rows,
+        egg_box::DEFAULT_TOLERANCES,
+    ))
 }
 
 /// Mechanical patch test (flat, LN sides, bottom fixed): the lumped
@@ -616,6 +628,11 @@ pub fn cases() -> Vec<Case> {
             name: "contact_patch_3d",
             description: "3D patch tests (Fig. 9): flat and cylindrical, non-matching",
             run: patch_3d,
+        },
+        Case {
+            name: "contact_egg_box",
+            description: "3D egg box on a flat: JGH asymptotes, Barber (small strain)",
+            run: egg_box_default,
         },
         Case {
             name: "contact_hertz",
