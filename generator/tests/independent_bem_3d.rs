@@ -107,3 +107,50 @@ fn random_areal_reference_is_the_case_surface_and_sane() {
         }
     }
 }
+
+/// The 3D solver against the tamaas reference on the case's own mesh
+/// (fixed, 16 × 16 × 8 and 14 × 14 × 7 elements, two-phase): contact
+/// fraction, mean gap and the conductance against Barber's analogy of the
+/// boundary-element stiffness. Long (`TCGEN_LONG_TESTS=1`); the measured
+/// errors are in docs/3d.md, the tolerances bound them.
+#[test]
+fn long_random_areal_against_tamaas() {
+    if std::env::var("TCGEN_LONG_TESTS").map_or(true, |v| v != "1") {
+        return;
+    }
+    let text = std::fs::read_to_string(format!("{DATA}random_areal.toml")).unwrap();
+    let case = Case::from_toml(&text, Path::new(DATA)).unwrap();
+    let reference = Reference::read("random_areal_tamaas.csv");
+    let rows = reference.rows();
+    let results = tcgen::homogenize::path::solve_case(&case, None, |_| {}).unwrap();
+    let mut worst = [0.0f64; 3];
+    for (r, row) in results.iter().zip(&rows) {
+        let (p, fraction, gap, barber) = (row[0], row[1], row[2], row[4]);
+        assert_eq!(r.pressure, p);
+        assert!(r.converged, "{:?}", r.status);
+        let e = [
+            (r.interface.contact_fraction - fraction) / fraction,
+            (r.interface.mean_gap - gap) / gap,
+            (r.conductance - barber) / barber,
+        ];
+        println!(
+            "{p:e} Pa: contact {:.5} vs {fraction:.5} ({:+.1} %), mean gap {:+.2} %, conductance {:.4e} vs Barber {barber:.4e} ({:+.1} %), {} unknowns",
+            r.interface.contact_fraction,
+            100.0 * e[0],
+            100.0 * e[1],
+            r.conductance,
+            100.0 * e[2],
+            r.dofs
+        );
+        for (w, x) in worst.iter_mut().zip(e) {
+            *w = w.max(x.abs());
+        }
+    }
+    println!(
+        "worst |error|: contact {:.3}, mean gap {:.4}, conductance {:.3}",
+        worst[0], worst[1], worst[2]
+    );
+    assert!(worst[0] < 0.6, "contact fraction {}", worst[0]);
+    assert!(worst[1] < 0.05, "mean gap {}", worst[1]);
+    assert!(worst[2] < 0.5, "conductance {}", worst[2]);
+}
