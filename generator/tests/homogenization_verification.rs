@@ -16,6 +16,12 @@ fn resistive_interface_size_effects_follow_eq_2_15() {
     run("size_effects_resistive");
 }
 
+/// Fig. 13a in 3D (W × W cell, 2 × 2 × 2 elements): the same to 1e−6.
+#[test]
+fn resistive_interface_size_effects_follow_eq_2_15_in_3d() {
+    run("size_effects_resistive_3d");
+}
+
 /// Fig. 13b: the two-phase jump scales with ε (1e−3); the coupled one does not.
 #[test]
 fn two_phase_jump_scales_linearly_with_the_sample() {

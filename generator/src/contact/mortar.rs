@@ -1253,7 +1253,8 @@ impl ContactInterface {
         let surface_area = self.surface_area(i);
         // Accumulate G, H (gap) and Gt, Ht (jump) over the node's points.
         let (mut g, mut gt) = (vec![0.0; nd], vec![0.0; nd]);
-        let want_h = k.is_some();
+        // The Hessians H^I enter the tangent of nodes in contact only.
+        let want_h = k.is_some() && self.is_active(i);
         let (mut h, mut ht) = if want_h {
             (vec![0.0; nd * nd], vec![0.0; nd * nd])
         } else {

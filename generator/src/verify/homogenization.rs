@@ -43,8 +43,10 @@ pub struct Sample {
     pub lower: String,
     /// Extra `[material]` keys.
     pub material: String,
-    /// Elements `[x, z]` of the upper and lower bodies.
+    /// Elements `[x, z]` of the upper and lower bodies (in 3D `[x, x, z]`).
     pub elements: ([usize; 2], [usize; 2]),
+    /// Spatial dimension (2, or 3 with surfaces given as areal keys).
+    pub dimension: usize,
     /// `[contact]` keys.
     pub contact: String,
     /// Pressures (Pa).
@@ -87,6 +89,7 @@ impl Default for Sample {
             lower: flat(),
             material: String::new(),
             elements: ([16, 8], [12, 7]),
+            dimension: 2,
             contact: "thermal = \"constraint\"\n".into(),
             pressures: vec![1.0e4],
             flux: 1.0e6,
@@ -100,12 +103,17 @@ impl Sample {
     /// The case file text.
     pub fn toml(&self) -> String {
         let p: Vec<String> = self.pressures.iter().map(|p| format!("{p:e}")).collect();
+        let counts = |[nx, nz]: [usize; 2]| match self.dimension {
+            3 => format!("[{nx}, {nx}, {nz}]"),
+            _ => format!("[{nx}, {nz}]"),
+        };
         format!(
-            "[sample]\nwidth = {:e}\nheight = {:e}\nlateral = \"{}\"\ntop_lateral = \"{}\"\n\
+            "[sample]\ndimension = {}\nwidth = {:e}\nheight = {:e}\nlateral = \"{}\"\ntop_lateral = \"{}\"\n\
              [surface.upper]\n{}[surface.lower]\n{}[material]\n{}\
-             [discretization]\ndegree = 2\nelements_upper = [{}, {}]\nelements_lower = [{}, {}]\n\
+             [discretization]\ndegree = 2\nelements_upper = {}\nelements_lower = {}\n\
              [contact]\n{}[load]\npressures = [{}]\nflux = {:e}\ncontact_temperature = 293.15\n\
              [homogenization]\nmethod = \"{}\"\nmaster = \"{}\"\n",
+            self.dimension,
             self.width,
             self.height,
             self.lateral,
@@ -113,10 +121,8 @@ impl Sample {
             self.upper,
             self.lower,
             self.material,
-            self.elements.0[0],
-            self.elements.0[1],
-            self.elements.1[0],
-            self.elements.1[1],
+            counts(self.elements.0),
+            counts(self.elements.1),
             self.contact,
             p.join(", "),
             self.flux,
@@ -157,7 +163,12 @@ pub fn cases() -> Vec<Case> {
         Case {
             name: "size_effects_resistive",
             description: "Fig. 13a: flat resistive interface (10 K): two-phase exact, coupled (2.14) follows (2.15)",
-            run: size_effects_resistive,
+            run: || size_effects_resistive(2),
+        },
+        Case {
+            name: "size_effects_resistive_3d",
+            description: "Fig. 13a in 3D: flat resistive interface, two-phase exact, coupled (2.14) follows (2.15)",
+            run: || size_effects_resistive(3),
         },
         Case {
             name: "scale_separation",
@@ -194,8 +205,13 @@ const MICRO_JUMP: f64 = 10.0;
 /// conductance `kθ = |h̄|/10 K` (`α = 0`), nearly rigid bodies with constant
 /// `k` and no expansion. LN sides (the flat cell is uniform; see the report
 /// on PR with `α = 0`). The closed form uses the stretched height `λH0`.
-fn size_effects_resistive() -> Result<Vec<Check>> {
-    let case = "size_effects_resistive";
+/// In 3D (`dimension = 3`) the same on a `W × W` cell, three heights.
+pub fn size_effects_resistive(dimension: usize) -> Result<Vec<Check>> {
+    let case = if dimension == 3 {
+        "size_effects_resistive_3d"
+    } else {
+        "size_effects_resistive"
+    };
     let flux = 1.0e6;
     let pressure = 1.0e5;
     let material = "youngs_modulus = 1.0e11\nthermal_expansion = 0.0\nconductivity_slope = 0.0\n";
@@ -213,6 +229,10 @@ fn size_effects_resistive() -> Result<Vec<Check>> {
     } else {
         &[1.0e-6, 1.0e-5, 3.0e-5]
     };
+    let (heights, elements) = match dimension {
+        3 => (&[1.0e-6, 1.0e-5, 3.0e-5][..], ([2, 2], [2, 2])),
+        _ => (heights, ([4, 4], [4, 4])),
+    };
     let mut out = Vec::new();
     // Jump vs height per method and master, for the plot (Fig. 13a).
     let mut curves: Vec<(String, Vec<f64>)> = Vec::new();
@@ -229,7 +249,8 @@ fn size_effects_resistive() -> Result<Vec<Check>> {
                 upper: flat(),
                 lower: flat(),
                 material: material.into(),
-                elements: ([4, 4], [4, 4]),
+                elements,
+                dimension,
                 contact: constitutive(flux / MICRO_JUMP, 0.0),
                 pressures: vec![pressure],
                 flux,
