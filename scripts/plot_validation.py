@@ -51,8 +51,18 @@ def read_checks(data_dir):
         return json.load(f)
 
 
+# Cases whose checks a shorter case name also prefixes (their own figures).
+OWN_FIGURE = ("contact_hertz_3d",)
+
+
 def check_summary(checks, case_prefix):
-    mine = [c for c in checks if c.get("case", "").startswith(case_prefix)]
+    def mine_(name):
+        if not name.startswith(case_prefix):
+            return False
+        return not any(o != case_prefix and o.startswith(case_prefix) and name.startswith(o)
+                       for o in OWN_FIGURE)
+
+    mine = [c for c in checks if mine_(c.get("case", ""))]
     if not mine:
         return ""
     ok = sum(1 for c in mine if c.get("pass"))
@@ -86,6 +96,32 @@ def _hertz(ax, key):
     r = [i / 200.0 for i in range(0, 195)]
     ax.plot(r, [1.0 / math.sqrt(1.0 - x * x) for x in r], "k-", lw=1.5, label="(5.2)")
     ax.set_ylim(0.0, 4.0)
+
+
+def _hertz3d(ax, key):
+    """Sphere on a flat: Hertz's pressure, the isothermal spot and their integrals."""
+    ax.set_xlim(0.0, 1.3)
+    r = [i / 400.0 for i in range(0, 400)]
+    curves = {
+        "pN/p0": ([math.sqrt(1.0 - x * x) for x in r], "Hertz √(1 − r²/a²)"),
+        "h0/h0_min": ([1.0 / math.sqrt(1.0 - x * x) for x in r], "(5.2) in 3D: 1/√(1 − r²/a²)"),
+        "Q(r)/Q": ([1.0 - math.sqrt(1.0 - x * x) for x in r], "1 − √(1 − r²/a²)"),
+        "F(r)/F": ([1.0 - (1.0 - x * x) ** 1.5 for x in r], "1 − (1 − r²/a²)^(3/2)"),
+    }
+    if key[1] in curves:
+        ys, label = curves[key[1]]
+        ax.plot(r, ys, "k-", lw=1.2, label=label)
+    if key[1] == "h0/h0_min":
+        ax.set_ylim(-1.0, 4.0)
+
+
+def _hertz3d_style(name):
+    """Nodal values (scattered in r) as markers, the integrals as lines."""
+    if name.startswith(("pN^I", "h0^I")):
+        return {"linestyle": "none", "marker": "x", "markersize": 4, "alpha": 0.6}
+    if name.startswith("⟨"):
+        return {"linestyle": "none", "marker": "o", "markersize": 3}
+    return {}
 
 
 def _westergaard(ax, key):
@@ -148,6 +184,7 @@ def _hbp_style(name):
 
 CUSTOM = {
     "contact_hertz": (_hertz, None),
+    "contact_hertz_3d": (_hertz3d, _hertz3d_style),
     "contact_wavy": (_westergaard, None),
     "size_effects_resistive": (_resistive, None),
     "scale_separation": (_logx, None),

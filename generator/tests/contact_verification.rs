@@ -2,13 +2,15 @@
 //! Sects. 5.1, 5.2, 5.7): every test runs the case function that
 //! `tcgen verify` prints and asserts that each of its checks passes.
 //!
-//! The default tests use the catalogue's meshes (about 5 s in release on
-//! 2 cores). The tests named `long_*` refine them (Hertz with p = 2 and 3 on
-//! coarse and fine meshes, Westergaard and the strips on 128 and 256 elements
+//! The default tests use the catalogue's meshes (about 5 s each in release
+//! on 2 cores; the 3D Hertz case 8 s). The tests named `long_*` refine them
+//! (Hertz with p = 2 and 3 on coarse and fine meshes, 3D Hertz on three
+//! meshes with its modelling errors, Westergaard and the strips on 128 and 256 elements
 //! (raw within 2 %, and Richardson extrapolation), the Sect. 5.7 path on the full meshes of
 //! `tables/sinusoid_on_flat.toml` for p = 1, 2, 3 with LN and PR sides, the
 //! quadrature study of the non-nested patch tests); they run only with
-//! `TCGEN_LONG_TESTS=1` (about 2 minutes on 2 cores) and return early otherwise.
+//! `TCGEN_LONG_TESTS=1` (about 2 minutes on 2 cores, and 3 more for the 3D
+//! Hertz runs) and return early otherwise.
 
 use tcgen::sample::case::LateralCondition;
 use tcgen::verify::contact::hertz::HertzSetup;
@@ -93,6 +95,11 @@ fn hertz_p2_coarse() {
 }
 
 #[test]
+fn hertz_3d_sphere_on_flat() {
+    assert_pass(&contact::hertz_3d_default().unwrap());
+}
+
+#[test]
 fn westergaard_and_constriction() {
     assert_pass(&contact::wavy_case(&contact::wavy_default_sample()).unwrap());
 }
@@ -150,6 +157,17 @@ fn long_hertz() {
         checks.extend(contact::hertz_checks(&HertzSetup::new(degree, fine), tol).unwrap());
     }
     assert_pass(&checks);
+}
+
+/// 3D Hertz (sphere on a flat) on n = 8, 10, 12 elements over 1.25 a, the
+/// order of the radius error, the modelling errors and the predictor
+/// (`TCGEN_LONG_TESTS=1`; about 3 minutes of CPU, 5.2 GB at n = 12).
+#[test]
+fn long_hertz_3d() {
+    if !long() {
+        return;
+    }
+    assert_pass(&contact::hertz_3d_long().unwrap());
 }
 
 /// Westergaard and the strips on 128 and 256 elements: the raw contact

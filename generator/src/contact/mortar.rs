@@ -1251,10 +1251,11 @@ impl ContactInterface {
         // The multiplier rows of nodes out of contact (the zone may not
         // reach them in the thermal phase).
         let surface_area = self.surface_area(i);
-        // Accumulate G, H (gap) and Gt, Ht (jump) over the node's points.
+        // Accumulate G, H (gap) and Gt, Ht (jump) over the node's points;
+        // the Hessians enter the terms of nodes in contact only.
         let (mut g, mut gt) = (vec![0.0; nd], vec![0.0; nd]);
-        // The Hessians H^I enter the tangent of nodes in contact only.
-        let want_h = k.is_some() && self.is_active(i);
+        let active = self.is_active(i);
+        let want_h = k.is_some() && active;
         let (mut h, mut ht) = if want_h {
             (vec![0.0; nd * nd], vec![0.0; nd * nd])
         } else {
@@ -1307,7 +1308,6 @@ impl ContactInterface {
         };
         // Mechanical: Alart–Curnier augmented Lagrangian.
         let frozen = self.frozen.is_some();
-        let active = self.is_active(i);
         if unknowns.mechanical_terms && !frozen {
             let lam = self.lambda_n[i];
             let gi = gs / area;
