@@ -334,3 +334,30 @@ fn a_3d_case_is_checked_solved_tabled_and_mapped() {
     let crest = heights.height(0.0, 0.0) + heights.removed_mean;
     assert!((crest - 2.0e-6).abs() < 0.05e-6, "{crest}");
 }
+
+/// Every case and sweep file under `tables/` is valid (`tcgen check`).
+#[test]
+fn every_committed_table_file_is_valid() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tables");
+    let mut n = 0;
+    for entry in std::fs::read_dir(&root).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "toml") {
+            continue;
+        }
+        let o = Command::new(env!("CARGO_BIN_EXE_tcgen"))
+            .arg("check")
+            .arg(&path)
+            .env("TCGEN_MEMORY_LIMIT", "64G")
+            .output()
+            .unwrap();
+        assert!(
+            o.status.success(),
+            "{}: {}",
+            path.display(),
+            String::from_utf8_lossy(&o.stderr)
+        );
+        n += 1;
+    }
+    assert!(n >= 7, "{n} files");
+}
