@@ -3,6 +3,8 @@ is an unstructured grid of line cells, the bodies of quadrilaterals; every
 file carries the applied loads as field data; the written Cauchy stress of
 the two-phase self-consistent method balances the applied pressure over
 the external faces; series.pvd lists every file with the pressure as time.
+3D (issue 12 item 7): hexahedra for the bodies, quadrilaterals for the
+interface.
 Run through tests/python/run.sh (it sets TCGEN_BIN)."""
 
 import os
@@ -19,22 +21,33 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 TCGEN = os.environ.get("TCGEN_BIN", str(ROOT / "target/release/tcgen"))
 
 
-def solve(tmp_path):
-    """`tcgen solve --vtk` of tables/sinusoid_on_flat.toml on the coarse mesh
-    of generator/tests/vtk_output.rs, at 1 and 10 kPa."""
-    text = (ROOT / "tables/sinusoid_on_flat.toml").read_text()
-    for key, value in [
-        ("elements_upper", "[12, 6]"),
-        ("elements_lower", "[10, 5]"),
-        ("pressures", "[1.0e3, 1.0e4]"),
-        ("method", '"two-phase-self-consistent"'),
-    ]:
+def run(tmp_path, table, settings):
+    """`tcgen solve --vtk` of `tables/<table>` with the lines `key = value` of
+    `settings` replaced; the output directory and the case text."""
+    text = (ROOT / "tables" / table).read_text()
+    for key, value in settings:
         text, n = re.subn(rf"(?m)^{key} = .*$", f"{key} = {value}", text)
         assert n == 1, key
     case = tmp_path / "case.toml"
     case.write_text(text)
     out = tmp_path / "vtk"
     subprocess.run([TCGEN, "solve", str(case), "--vtk", str(out)], check=True, capture_output=True)
+    return out, text
+
+
+def solve(tmp_path):
+    """`tcgen solve --vtk` of tables/sinusoid_on_flat.toml on the coarse mesh
+    of generator/tests/vtk_output.rs, at 1 and 10 kPa."""
+    out, text = run(
+        tmp_path,
+        "sinusoid_on_flat.toml",
+        [
+            ("elements_upper", "[12, 6]"),
+            ("elements_lower", "[10, 5]"),
+            ("pressures", "[1.0e3, 1.0e4]"),
+            ("method", '"two-phase-self-consistent"'),
+        ],
+    )
     return out, tomllib.loads(text)["sample"]["width"]
 
 
@@ -83,3 +96,29 @@ def test_collection_lists_every_file(tmp_path):
         (p, f"p{k:03}_{b}.vtu") for k, p in enumerate([1.0e3, 1.0e4]) for b in ["lower", "upper", "interface"]
     ]
     assert all((out / f).is_file() for _, f in sets)
+
+
+def test_meshio_reads_a_3d_case(tmp_path):
+    """The coarse egg box on a flat of tables/egg_box_on_flat.toml (3 x 3 x 1
+    and 2 x 2 x 1 elements, as generator/tests/sweep_cli.rs) at 100 kPa."""
+    out, _ = run(
+        tmp_path,
+        "egg_box_on_flat.toml",
+        [("elements_upper", "[3, 3, 1]"), ("elements_lower", "[2, 2, 1]"), ("pressures", "[1.0e5]")],
+    )
+    for body in ["lower", "upper"]:
+        m = meshio.read(out / f"p000_{body}.vtu")
+        assert [c.type for c in m.cells] == ["hexahedron"]
+        nx, ny, nz = (int(v) for v in m.field_data["grid_dimensions"].ravel())
+        assert m.field_data["dimension"].ravel()[0] == 3
+        assert m.points.shape == (nx * ny * nz, 3)
+        assert m.cells[0].data.shape == ((nx - 1) * (ny - 1) * (nz - 1), 8)
+        assert m.point_data["cauchy_stress"].shape == (nx * ny * nz, 9)
+        assert m.point_data["heat_flux"].shape == (nx * ny * nz, 3)
+    iface = meshio.read(out / "p000_interface.vtu")
+    assert [c.type for c in iface.cells] == ["quad"]
+    nu, nv = (int(v) for v in iface.field_data["grid_dimensions"].ravel())
+    assert iface.cells[0].data.shape == ((nu - 1) * (nv - 1), 4)
+    assert iface.point_data["contact_pressure"].size == nu * nv
+    # The lumped heat flow is -|h| W^2 to the solver tolerance.
+    assert abs(iface.field_data["interface_heat_flow"].ravel()[0] + 1.0e6 * 1.0e-10) < 1e-9 * 1.0e-4

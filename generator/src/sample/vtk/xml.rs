@@ -7,6 +7,8 @@ use std::fmt::Write as _;
 pub const VTK_LINE: u8 = 3;
 /// VTK cell type of a four-point quadrilateral.
 pub const VTK_QUAD: u8 = 9;
+/// VTK cell type of an eight-point hexahedron.
+pub const VTK_HEXAHEDRON: u8 = 12;
 
 /// One array of field data (the whole dataset) or point data.
 pub struct Array<'a> {
