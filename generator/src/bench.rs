@@ -12,6 +12,7 @@
 //! solve are the best of two runs, since the machine may be shared.
 
 use crate::bulk::global::Assembly;
+use crate::homogenize::path::PhaseCost;
 use crate::solve::linear::{Factorization, LinearSolver, Ordering};
 use crate::solve::ordering::nested_dissection;
 use crate::{Error, Result};
@@ -726,9 +727,6 @@ fn micro_path<'a>(
     Ok((t.elapsed().as_secs_f64(), solver, points))
 }
 
-/// Wall time (s) and Newton iterations per phase (mechanical, thermal, coupled).
-pub type PhaseCost = [(f64, usize); 3];
-
 /// Runs the micro-sample path benchmark.
 pub fn micro_sample_bench(pressures: usize) -> Result<MicroBench> {
     use crate::bulk::Coupling;
@@ -1161,32 +1159,6 @@ pub fn format_solver_3d_bench(degree: usize, rows: &[Solver3dRow]) -> String {
     s
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The 3D benchmark runs on a small cube: the unknowns are the interior
-    /// control points (every face fixed) times the fields, and the SPD
-    /// mechanical system gets its Cholesky factor.
-    #[test]
-    fn solver_3d_bench_counts_the_interior_unknowns() {
-        let rows = solver_3d_bench(2, &[4]).unwrap();
-        let interior = (4 + 2 - 2usize).pow(3);
-        let unknowns: Vec<usize> = rows.iter().map(|r| r.unknowns).collect();
-        assert_eq!(
-            unknowns,
-            vec![3 * interior, 3 * interior, interior, 4 * interior]
-        );
-        assert!(rows[0].factor_nnz.is_some_and(|z| z >= rows[0].unknowns));
-        assert!(rows[1].factor_nnz.is_none());
-        let table = format_solver_3d_bench(2, &rows);
-        assert!(
-            table.contains("coupled, LU + COLAMD") && table.contains("n/a"),
-            "{table}"
-        );
-    }
-}
-
 /// One pressure of the 3D egg-box benchmark (`tcgen bench --only egg-box`).
 #[derive(Clone, Debug)]
 pub struct EggBoxBenchRow {
@@ -1276,4 +1248,30 @@ pub fn format_egg_box_bench(
         None => s += "\n",
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The 3D benchmark runs on a small cube: the unknowns are the interior
+    /// control points (every face fixed) times the fields, and the SPD
+    /// mechanical system gets its Cholesky factor.
+    #[test]
+    fn solver_3d_bench_counts_the_interior_unknowns() {
+        let rows = solver_3d_bench(2, &[4]).unwrap();
+        let interior = (4 + 2 - 2usize).pow(3);
+        let unknowns: Vec<usize> = rows.iter().map(|r| r.unknowns).collect();
+        assert_eq!(
+            unknowns,
+            vec![3 * interior, 3 * interior, interior, 4 * interior]
+        );
+        assert!(rows[0].factor_nnz.is_some_and(|z| z >= rows[0].unknowns));
+        assert!(rows[1].factor_nnz.is_none());
+        let table = format_solver_3d_bench(2, &rows);
+        assert!(
+            table.contains("coupled, LU + COLAMD") && table.contains("n/a"),
+            "{table}"
+        );
+    }
 }

@@ -26,6 +26,19 @@ fn law_of_reference(args: &[&str], out: &Path) -> std::process::Output {
         .unwrap()
 }
 
+/// Runs `cmd`, asserts that it succeeded (the command and its output in
+/// the message) and returns its standard output.
+fn succeeded(cmd: &mut Command) -> String {
+    let o = cmd.output().unwrap();
+    let out = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(
+        o.status.success(),
+        "{cmd:?}: {out}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    out
+}
+
 #[test]
 fn law_of_the_reference_table_reads_back() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
@@ -226,13 +239,7 @@ fn a_3d_case_is_checked_solved_tabled_and_mapped() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let case = root.join("tables/egg_box_on_flat.toml");
     let tcgen = || Command::new(env!("CARGO_BIN_EXE_tcgen"));
-    let o = tcgen().arg("check").arg(&case).output().unwrap();
-    let out = String::from_utf8_lossy(&o.stdout);
-    assert!(
-        o.status.success(),
-        "{out}{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    let out = succeeded(tcgen().arg("check").arg(&case));
     for needle in [
         "dimension = 3",
         "elements_upper = [8, 8, 4]",
@@ -266,13 +273,7 @@ fn a_3d_case_is_checked_solved_tabled_and_mapped() {
         head.clone() + "[load]\npressures = [1.0e5]\nflux = 1.0e6\ncontact_temperature = 293.15\n",
     )
     .unwrap();
-    let o = tcgen()
-        .args(["solve", "--json"])
-        .arg(&solve_case)
-        .output()
-        .unwrap();
-    let out = String::from_utf8_lossy(&o.stdout);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = succeeded(tcgen().args(["solve", "--json"]).arg(&solve_case));
     let row: serde_json::Value = serde_json::from_str(out.lines().next().unwrap()).unwrap();
     assert_eq!(row["status"], "converged", "{out}");
     let jump = row["jump"].as_f64().unwrap();
@@ -286,25 +287,17 @@ fn a_3d_case_is_checked_solved_tabled_and_mapped() {
     )
     .unwrap();
     let table = dir.join("t.h5");
-    let o = tcgen()
-        .args(["sweep", "--progress", "quiet", "-o"])
-        .arg(&table)
-        .arg(&sweep)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    succeeded(
+        tcgen()
+            .args(["sweep", "--progress", "quiet", "-o"])
+            .arg(&table)
+            .arg(&sweep),
+    );
     let t = tcgen::io::read_table(&table).unwrap();
     let p = t.points[0].values.expect("converged");
     assert!((p.jump - jump).abs() < 1e-9 * jump, "{} vs {jump}", p.jump);
     let law = dir.join("t.tclaw");
-    let o = tcgen()
-        .arg("law")
-        .arg("-o")
-        .arg(&law)
-        .arg(&table)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    succeeded(tcgen().arg("law").arg("-o").arg(&law).arg(&table));
     let law = lookup::Law::open(&law).unwrap();
     let prov = &law.info().provenance;
     let get = |k: &str| {
@@ -315,14 +308,12 @@ fn a_3d_case_is_checked_solved_tabled_and_mapped() {
     assert_eq!(get("dimension"), Some("3"));
     assert_eq!(get("cell_size"), Some("1e-5 1e-5"));
     let map = dir.join("egg_box.csv");
-    let o = tcgen()
-        .args(["surface", "--points", "32", "-o"])
-        .arg(&map)
-        .arg(&case)
-        .output()
-        .unwrap();
-    let out = String::from_utf8_lossy(&o.stdout);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = succeeded(
+        tcgen()
+            .args(["surface", "--points", "32", "-o"])
+            .arg(&map)
+            .arg(&case),
+    );
     assert!(
         out.contains("NURBS fit (8 x 8 elements, degree 2)"),
         "{out}"
@@ -345,17 +336,11 @@ fn every_committed_table_file_is_valid() {
         if path.extension().is_none_or(|e| e != "toml") {
             continue;
         }
-        let o = Command::new(env!("CARGO_BIN_EXE_tcgen"))
-            .arg("check")
-            .arg(&path)
-            .env("TCGEN_MEMORY_LIMIT", "64G")
-            .output()
-            .unwrap();
-        assert!(
-            o.status.success(),
-            "{}: {}",
-            path.display(),
-            String::from_utf8_lossy(&o.stderr)
+        succeeded(
+            Command::new(env!("CARGO_BIN_EXE_tcgen"))
+                .arg("check")
+                .arg(&path)
+                .env("TCGEN_MEMORY_LIMIT", "64G"),
         );
         n += 1;
     }

@@ -31,6 +31,8 @@
 use std::collections::BTreeSet;
 use std::sync::Arc;
 
+use nalgebra::Vector3;
+
 use crate::basis::{RationalBasis, TensorBasis};
 use crate::contact::kinematics::{Derivatives, Needs, PointGeometry, differentiate};
 use crate::contact::kinematics3d::SurfacePointGeometry;
@@ -234,6 +236,9 @@ pub struct ContactZone {
 /// polynomial can have close together).
 const ZONE_SAMPLES: usize = 16;
 
+/// Unknowns per node in 3D: `(ux, uy, uz, θ)`.
+const NF_3D: usize = 4;
+
 /// Sub-cells per slave element and direction on which the 3D contact area
 /// is measured (midpoint rule on the interpolated pressure indicator).
 const AREA_SAMPLES: usize = 16;
@@ -340,15 +345,11 @@ impl ContactInterface {
             };
             let dirs: Vec<usize> = (0..3).filter(|&d| d != mdir).collect();
             let eta = [q.xi[dirs[0]], q.xi[dirs[1]]];
-            let a = projection3d::SurfaceEvaluator::new(surface)
+            let [a1, a2] = projection3d::SurfaceEvaluator::new(surface)
                 .at(master_face.locate(&eta), eta)
-                .a;
-            let n = [
-                a[0][1] * a[1][2] - a[0][2] * a[1][1],
-                a[0][2] * a[1][0] - a[0][0] * a[1][2],
-                a[0][0] * a[1][1] - a[0][1] * a[1][0],
-            ];
-            n[0] * nrm[0] + n[1] * nrm[1] + n[2] * nrm[2]
+                .a
+                .map(Vector3::from);
+            a1.cross(&a2).dot(&Vector3::from(nrm))
         };
         let normal_sign = if outward > 0.0 { 1.0 } else { -1.0 };
         let c0_master = master_face.knots().iter().any(|kv_m| {
@@ -649,7 +650,7 @@ impl ContactInterface {
                 .map(|&c| self.slave_nodes[c])
                 .chain(master.iter().map(|&j| self.master_nodes[j]))
             {
-                z.extend_from_slice(&state[n * 4..n * 4 + 4]);
+                z.extend_from_slice(&state[n * NF_3D..(n + 1) * NF_3D]);
             }
             let (gap, jump) = crate::contact::kinematics3d::differentiate(&geo, &z, needs);
             out.push(PointState {
@@ -1206,7 +1207,7 @@ impl ContactInterface {
                     value += basis.values[a] * ind[c];
                     let node = self.slave_nodes[c];
                     for j in 0..2 {
-                        let x = self.slave_ref[c][j] + state[node * 4 + j];
+                        let x = self.slave_ref[c][j] + state[node * NF_3D + j];
                         for d in 0..2 {
                             dx[j][d] += basis.d1[a][d] * x;
                         }

@@ -99,6 +99,9 @@ impl PointResult {
     }
 }
 
+/// Wall time (s) and Newton iterations per phase (mechanical, thermal, coupled).
+pub type PhaseCost = [(f64, usize); 3];
+
 /// The solver state of one sample along its path.
 pub struct PathSolver<'a> {
     case: &'a Case,
@@ -117,9 +120,8 @@ pub struct PathSolver<'a> {
     /// The fields of the last solved point, when capturing.
     fields: Option<Fields>,
     history: Vec<f64>,
-    /// Wall time (s) and Newton iterations spent per phase so far
-    /// (mechanical, thermal, coupled).
-    phase_cost: [(f64, usize); 3],
+    /// Wall time and Newton iterations spent per phase so far.
+    phase_cost: PhaseCost,
 }
 
 /// What one thermal phase gives.
@@ -229,7 +231,7 @@ impl<'a> PathSolver<'a> {
 
     /// Wall time (s) and Newton iterations spent so far in the mechanical,
     /// thermal and coupled phases (benchmarks).
-    pub fn phase_cost(&self) -> [(f64, usize); 3] {
+    pub fn phase_cost(&self) -> PhaseCost {
         self.phase_cost
     }
 

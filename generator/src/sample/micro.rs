@@ -15,7 +15,7 @@ use crate::geometry::{
     try_rough_block,
 };
 use crate::material::Material;
-use crate::sample::case::{Case, LateralCondition, MasterBody, TopLateral};
+use crate::sample::case::{Case, ElementCounts, LateralCondition, MasterBody, TopLateral};
 use crate::solve::{Model, ModelBuilder, NonlinearProblem, Scales};
 use crate::surface::Surface;
 use crate::surface::areal::ArealSurface;
@@ -79,24 +79,6 @@ impl SampleFit {
         };
         h.iter().fold(0.0f64, |m, z| m.max(z.abs()))
     }
-
-    /// The profile fit (2D samples).
-    pub fn profile(&self) -> Option<&SurfaceFit> {
-        match self {
-            SampleFit::Profile(f) => Some(f),
-            SampleFit::Areal(_) => None,
-        }
-    }
-}
-
-/// Evaluates a fitted graph curve `z(x)` (B-spline, x linear in the parameter).
-pub fn fitted_height(fit: &SurfaceFit, width: f64, x: f64) -> f64 {
-    let kv = &fit.knots;
-    let u = kv.first() + (kv.last() - kv.first()) * (x / width).clamp(0.0, 1.0);
-    let span = kv.find_span(u);
-    let n = crate::basis::bspline::basis_ders(kv, span, u, 0);
-    let p = kv.degree();
-    (0..=p).map(|j| n[0][j] * fit.heights[span - p + j]).sum()
 }
 
 /// Builds the case's surfaces, fits them and finds `g0`.
@@ -109,17 +91,6 @@ pub fn case_geometry(case: &Case) -> Result<SampleGeometry> {
     Ok(sample_geometry(case, upper.as_ref(), lower.as_ref()))
 }
 
-/// The sample's layout: spatial dimension and the element counts of the
-/// (upper, lower) bodies, lateral directions first, the height last.
-pub fn layout(case: &Case) -> (usize, Vec<usize>, Vec<usize>) {
-    let d = &case.discretization;
-    (
-        case.dimension(),
-        d.elements_upper.as_slice().to_vec(),
-        d.elements_lower.as_slice().to_vec(),
-    )
-}
-
 /// Fits both height maps of a 3D sample at the discretization's resolution
 /// (elements `[nx, ny]` of each body) and finds `g0 = max (f2 − f1)`: the
 /// best of a dense grid, refined by a compass search.
@@ -129,14 +100,15 @@ pub fn sample_geometry_3d(
     lower: &dyn ArealSurface,
 ) -> Result<SampleGeometry> {
     let w = case.sample.width;
-    let p = case.discretization.degree;
-    let (_, nu, nl) = layout(case);
+    let d = &case.discretization;
+    let lateral = |c: &ElementCounts| [c.along(0), c.along(1)];
+    let (nu, nl) = (lateral(&d.elements_upper), lateral(&d.elements_lower));
     let fu = |x: f64, y: f64| upper.height(x, y);
     let fl = |x: f64, y: f64| lower.height(x, y);
-    let fit_upper = fit_height_map(&fu, w, p, [nu[0], nu[1]])?;
-    let fit_lower = fit_height_map(&fl, w, p, [nl[0], nl[1]])?;
+    let fit_upper = fit_height_map(&fu, w, d.degree, nu)?;
+    let fit_lower = fit_height_map(&fl, w, d.degree, nl)?;
     let gap = |x: f64, y: f64| fit_lower.height_at(x, y) - fit_upper.height_at(x, y);
-    let n = 16 * (nu[0].max(nu[1]).max(nl[0]).max(nl[1]) + 1);
+    let n = 16 * (nu.into_iter().chain(nl).max().unwrap_or(1) + 1);
     let h = w / n as f64;
     let (mut best, mut gb) = ([0.0, 0.0], f64::NEG_INFINITY);
     for j in 0..=n {
@@ -195,7 +167,7 @@ pub fn sample_geometry(case: &Case, upper: &dyn Surface, lower: &dyn Surface) ->
     // First touch: g0 = max (f2 − f1) over a dense sampling of the fitted curves,
     // refined by golden-section search around the best sample.
     let n = 64 * (d.elements_upper.along(0).max(d.elements_lower.along(0)) + 1);
-    let gap = |x: f64| fitted_height(&fit_lower, w, x) - fitted_height(&fit_upper, w, x);
+    let gap = |x: f64| fit_lower.height_at(x) - fit_upper.height_at(x);
     let (mut xb, mut gb) = (0.0, f64::NEG_INFINITY);
     for i in 0..=n {
         let x = w * i as f64 / n as f64;

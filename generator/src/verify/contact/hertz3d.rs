@@ -404,25 +404,13 @@ pub fn hertz_3d(setup: &Hertz3dSetup) -> Result<Hertz3dResult> {
         "p={}, {}/{} el.",
         setup.degree, setup.contact_elements[0], setup.contact_elements[1]
     );
-    let near = |v: &[(f64, f64)]| -> (Vec<f64>, Vec<f64>) {
-        v.iter().copied().filter(|p| p.0 < 1.3).unzip()
+    // Nodal values against r/a, up to r/a = 1.3, for the plots.
+    let record_near = |name: String, quantity: &str, v: &[(f64, f64)]| {
+        let (x, y): (Vec<f64>, Vec<f64>) = v.iter().copied().filter(|p| p.0 < 1.3).unzip();
+        record_series("contact_hertz_3d", &name, ("r/a", quantity), &x, &y);
     };
-    let (x, y) = near(&nodal_p);
-    record_series(
-        "contact_hertz_3d",
-        &format!("pN^I {label}"),
-        ("r/a", "pN/p0"),
-        &x,
-        &y,
-    );
-    let (x, y) = near(&traction_p);
-    record_series(
-        "contact_hertz_3d",
-        &format!("⟨N^I p⟩/⟨N^I⟩ {label}"),
-        ("r/a", "pN/p0"),
-        &x,
-        &y,
-    );
+    record_near(format!("pN^I {label}"), "pN/p0", &nodal_p);
+    record_near(format!("⟨N^I p⟩/⟨N^I⟩ {label}"), "pN/p0", &traction_p);
 
     // Thermal phase on the frozen configuration.
     let start = std::time::Instant::now();
@@ -457,22 +445,8 @@ pub fn hertz_3d(setup: &Hertz3dSetup) -> Result<Hertz3dResult> {
         .map(|&i| c.weighted_jump(i).abs())
         .fold(0.0, f64::max)
         * s.temperature;
-    let (x, y) = near(&nodal_h);
-    record_series(
-        "contact_hertz_3d",
-        &format!("h0^I {label}"),
-        ("r/a", "h0/h0_min"),
-        &x,
-        &y,
-    );
-    let (x, y) = near(&traction_h);
-    record_series(
-        "contact_hertz_3d",
-        &format!("⟨N^I h0⟩/⟨N^I⟩ {label}"),
-        ("r/a", "h0/h0_min"),
-        &x,
-        &y,
-    );
+    record_near(format!("h0^I {label}"), "h0/h0_min", &nodal_h);
+    record_near(format!("⟨N^I h0⟩/⟨N^I⟩ {label}"), "h0/h0_min", &traction_h);
     let radii: Vec<f64> = (1..=RADII).map(|k| 0.05 * k as f64).collect();
     record_series(
         "contact_hertz_3d",

@@ -200,6 +200,32 @@ impl PatchSetup {
             interface_refined(&upper, Side::Low, self.upper.interface_levels, false),
         )
     }
+
+    /// Table I with a constant conductivity.
+    pub fn material() -> Material {
+        Material {
+            conductivity_slope: 0.0,
+            ..Material::default()
+        }
+    }
+
+    /// A model builder of the dimension with both bodies added (lower
+    /// first), `bulk_points` Gauss points per direction if given; returns
+    /// the builder, the material and the body indices.
+    fn builder(
+        &self,
+        bulk_points: Option<usize>,
+    ) -> Result<(ModelBuilder, Material, usize, usize)> {
+        let m = PatchSetup::material();
+        let (lower, upper) = self.bodies();
+        let mut b = ModelBuilder::new(self.dimension, Scales::new(self.width, &m));
+        if let Some(n) = bulk_points {
+            b = b.bulk_points(n);
+        }
+        let lo = b.add_body("lower", lower, &m)?;
+        let up = b.add_body("upper", upper, &m)?;
+        Ok((b, m, lo, up))
+    }
 }
 
 /// The 2D patch `g` (x along the interface, y through the height) extruded
@@ -225,16 +251,6 @@ fn extruded(g: &NurbsPatch, width: f64, degree: usize, elements: usize) -> Nurbs
         e = e.elevate_degree(1, degree - 1);
     }
     e.refine_uniform(1, elements)
-}
-
-impl PatchSetup {
-    /// Table I with a constant conductivity.
-    pub fn material() -> Material {
-        Material {
-            conductivity_slope: 0.0,
-            ..Material::default()
-        }
-    }
 }
 
 /// Index of the lower body (master).
@@ -271,15 +287,8 @@ pub fn thermal_patch(
     settings: &ContactSettings,
     flux: f64,
 ) -> Result<ThermalPatch> {
-    let m = PatchSetup::material();
-    let (lower, upper) = setup.bodies();
     let (dim, hd) = (setup.dimension, setup.height_dir());
-    let mut b = ModelBuilder::new(dim, Scales::new(setup.width, &m));
-    if let Some(n) = setup.bulk_points {
-        b = b.bulk_points(n);
-    }
-    let lo = b.add_body("lower", lower, &m)?;
-    let up = b.add_body("upper", upper, &m)?;
+    let (mut b, m, lo, up) = setup.builder(setup.bulk_points)?;
     let theta0 = m.reference_temperature;
     b.fix_face(lo, hd, Side::Low, dim, theta0);
     b.flux(up, hd, Side::High, flux);
@@ -434,12 +443,8 @@ pub fn mechanical_model(
     interface_points: usize,
     integration: Integration,
 ) -> Result<Model> {
-    let m = PatchSetup::material();
-    let (lower, upper) = setup.bodies();
     let (dim, hd) = (setup.dimension, setup.height_dir());
-    let mut b = ModelBuilder::new(dim, Scales::new(setup.width, &m));
-    let lo = b.add_body("lower", lower, &m)?;
-    let up = b.add_body("upper", upper, &m)?;
+    let (mut b, m, lo, up) = setup.builder(None)?;
     for f in 0..dim {
         b.fix_face(lo, hd, Side::Low, f, 0.0);
     }
