@@ -252,8 +252,10 @@ fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
 }
 
 /// Closest point of element `e` to `x` by projected Newton on
-/// `f(η) = ½|x − x_m(η)|²` over the element's parameter box, from the
-/// closest of `start` (if any) and a 3 × 3 grid of the element's corners,
+/// `f(η) = ½|x − x_m(η)|²` over the element's parameter box. From `start`
+/// (the previous projection) alone when Newton converges inside the element
+/// there (the minimum is tracked as the configuration moves); otherwise
+/// from the closest of `start` and a 3 × 3 grid of the element's corners,
 /// edge mid-points and centre (the distance may have several local minima
 /// on one element). Returns `(η, |x − x_m(η)|²)`.
 fn element_minimum(
@@ -262,19 +264,42 @@ fn element_minimum(
     x: [f64; 3],
     start: Option<[f64; 2]>,
 ) -> ([f64; 2], f64) {
+    if let Some(s) = start {
+        let (eta, f, interior) = element_descent(ev, e, x, &[s]);
+        if interior {
+            return (eta, f);
+        }
+    }
+    let (lo, hi) = ev.surface.bounds(e);
+    let grid: Vec<[f64; 2]> = (0..9)
+        .map(|k| {
+            let t = [(k % 3) as f64 / 2.0, (k / 3) as f64 / 2.0];
+            [
+                lo[0] + t[0] * (hi[0] - lo[0]),
+                lo[1] + t[1] * (hi[1] - lo[1]),
+            ]
+        })
+        .collect();
+    let starts: Vec<[f64; 2]> = start.into_iter().chain(grid).collect();
+    let (eta, f, _) = element_descent(ev, e, x, &starts);
+    (eta, f)
+}
+
+/// Projected Newton of [`element_minimum`] from the closest of `starts`;
+/// returns `(η, |x − x_m(η)|², interior)`, `interior` when no parameter
+/// ends at the element's boundary.
+fn element_descent(
+    ev: &mut SurfaceEvaluator,
+    e: usize,
+    x: [f64; 3],
+    starts: &[[f64; 2]],
+) -> ([f64; 2], f64, bool) {
     let (lo, hi) = ev.surface.bounds(e);
     let clamp = |eta: [f64; 2]| [eta[0].clamp(lo[0], hi[0]), eta[1].clamp(lo[1], hi[1])];
     let mut eta = [0.0; 2];
     let mut p = SurfacePoint::default();
     let mut f = f64::INFINITY;
-    let grid = (0..9).map(|k| {
-        let t = [(k % 3) as f64 / 2.0, (k / 3) as f64 / 2.0];
-        [
-            lo[0] + t[0] * (hi[0] - lo[0]),
-            lo[1] + t[1] * (hi[1] - lo[1]),
-        ]
-    });
-    for s in start.map(clamp).into_iter().chain(grid) {
+    for s in starts.iter().map(|&s| clamp(s)) {
         let ps = ev.at(e, s);
         let fs = dot(sub(x, ps.x), sub(x, ps.x));
         if fs < f {
@@ -339,7 +364,8 @@ fn element_minimum(
             break;
         }
     }
-    (eta, f)
+    let interior = (0..2).all(|d| eta[d] > lo[d] && eta[d] < hi[d]);
+    (eta, f, interior)
 }
 
 /// A starting guess for [`project`]: the previous projection of the point.

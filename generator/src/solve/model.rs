@@ -600,9 +600,9 @@ impl Model {
                 element_eqs.push(self.dofs.element_eqs(&conn, &fields));
             }
         }
-        if let Some(c) = &self.contact {
+        if let (Some(c), Some(unknowns)) = (&self.contact, self.contact_unknowns()) {
             for i in 0..c.n_slave() {
-                element_eqs.push(c.element_eqs(i, &self.dofs, self.mult_eq));
+                element_eqs.push(c.element_eqs(i, &self.dofs, self.mult_eq, unknowns));
             }
         }
         let n_eq = self.eq_class.len();
@@ -628,6 +628,9 @@ impl Model {
         {
             c.thaw();
             c.prepare(&self.state, Needs::Values)?;
+        }
+        if let Some(c) = self.contact.as_mut() {
+            c.cover_active(true);
         }
         self.coupling = coupling;
         self.initial = self.state.clone();
@@ -1025,7 +1028,8 @@ impl NonlinearProblem for Model {
             .map(|u| Needs::from_terms(u.mechanical_terms, u.thermal_terms));
         if let (Some(c), Some(needs)) = (self.contact.as_mut(), needs) {
             c.prepare(&self.state, needs)?;
-            if c.update_band() {
+            let widened = c.update_band();
+            if c.cover_active(false) || widened {
                 self.rebuild_assembly();
             }
         }
