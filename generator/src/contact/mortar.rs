@@ -741,20 +741,13 @@ impl ContactInterface {
     }
 
     /// Local unknowns `(node, field)` of integration point `q`, in the order of its kinematics.
-    fn point_dofs(&self, q: usize) -> Vec<(usize, usize)> {
+    fn point_dofs(&self, q: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
         let nf = self.dim + 1;
-        let mut v = Vec::new();
-        for &c in &self.points[q].conn {
-            for f in 0..nf {
-                v.push((self.slave_nodes[c], f));
-            }
-        }
-        for &j in &self.state[q].master {
-            for f in 0..nf {
-                v.push((self.master_nodes[j], f));
-            }
-        }
-        v
+        let slave = self.points[q].conn.iter().map(|&c| self.slave_nodes[c]);
+        let master = self.state[q].master.iter().map(|&j| self.master_nodes[j]);
+        slave
+            .chain(master)
+            .flat_map(move |n| (0..nf).map(move |f| (n, f)))
     }
 
     /// Whether the current projections stay within the coupling band of the
@@ -1338,10 +1331,11 @@ impl ContactInterface {
         // Out of the pattern (out of contact): the multiplier rows only.
         let points: &[usize] = if nd > 0 { &self.node_points[i] } else { &[] };
         let (mut gs, mut gts) = (0.0, 0.0);
+        let mut map: Vec<Option<usize>> = Vec::new();
         for &q in points {
             let w = self.weight_of(q, i);
-            let pd = self.point_dofs(q);
-            let map: Vec<Option<usize>> = pd.iter().map(|d| dofs.binary_search(d).ok()).collect();
+            map.clear();
+            map.extend(self.point_dofs(q).map(|d| dofs.binary_search(&d).ok()));
             let st = &self.state[q];
             gs += w * st.gap.value;
             gts += w * st.jump.value;
@@ -1419,7 +1413,7 @@ impl ContactInterface {
                 if self.owner[q] != i {
                     continue;
                 }
-                let pd = self.point_dofs(q);
+                let pd: Vec<(usize, usize)> = self.point_dofs(q).collect();
                 let map: Vec<Option<usize>> = pd
                     .iter()
                     .map(|d| dofs.binary_search(d).ok().filter(|_| d.1 == self.dim))
