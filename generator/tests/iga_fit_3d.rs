@@ -16,6 +16,8 @@ fn egg_box() -> Box<dyn tcgen::surface::ArealSurface> {
         rms: 1e-6,
         wavelength: W,
         pattern: SinusoidPattern::EggBox,
+        phase: 0.0,
+        phase_y: 0.0,
     }
     .build("surface.upper", W, Path::new("."))
     .unwrap()

@@ -2,8 +2,11 @@
 //! functions `f(x, y)` about the mean plane, periodic over the square cell
 //! `[0, W]²`, in one global frame for both bodies.
 //!
-//! - `sinusoid`, `pattern = "egg-box"`: `f = 2·rms·cos(2πx/λ)·cos(2πy/λ)`;
-//!   `pattern = "ridges"`: `f = √2·rms·cos(2πx/λ)`, uniform in y.
+//! - `sinusoid`, `pattern = "egg-box"`: `f = 2·rms·cos(2πx/λ + φx)·cos(2πy/λ + φy)`;
+//!   `pattern = "ridges"`: `f = √2·rms·cos(2πx/λ + φx)`, uniform in y. The
+//!   phases `φx = phase`, `φy = phase_y` (rad, default 0; `phase_y` egg-box
+//!   only) shift the pattern by `−φλ/2π` along each axis: mismatched cells
+//!   (paper Sect. 5.3, Figs. 10/11), as the 2D sinusoid's `phase`.
 //! - `random`: the keys of the 2D [`RandomSpec`], meaning the **isotropic
 //!   areal** spectrum (below).
 //! - `heightmap`: a CSV of heights in m, one line per y row (`y_j = j·W/n_y`),
@@ -48,10 +51,10 @@ pub trait ArealSurface: Send + Sync {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum SinusoidPattern {
-    /// `f = 2·rms·cos(2πx/λ)·cos(2πy/λ)`.
+    /// `f = 2·rms·cos(2πx/λ + φx)·cos(2πy/λ + φy)`.
     #[default]
     EggBox,
-    /// `f = √2·rms·cos(2πx/λ)`, uniform in y.
+    /// `f = √2·rms·cos(2πx/λ + φx)`, uniform in y.
     Ridges,
 }
 
@@ -71,6 +74,12 @@ pub enum ArealSpec {
         /// `egg-box` (default) or `ridges`.
         #[serde(default)]
         pattern: SinusoidPattern,
+        /// Phase `φx` along x (rad), for mismatched cells (Sect. 5.3).
+        #[serde(default, skip_serializing_if = "is_zero")]
+        phase: f64,
+        /// Phase `φy` along y (rad; egg-box only).
+        #[serde(default, skip_serializing_if = "is_zero")]
+        phase_y: f64,
     },
     /// Gaussian random heights with an isotropic areal spectrum (module doc).
     Random(RandomSpec),
@@ -79,6 +88,12 @@ pub enum ArealSpec {
         /// CSV file, relative to the case file.
         file: PathBuf,
     },
+}
+
+/// A zero phase is not written (case files and hashes without phases keep
+/// their serialized form).
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 /// `f = 0`.
@@ -100,14 +115,17 @@ pub struct ArealSinusoid {
     pub wavelength: f64,
     /// Pattern.
     pub pattern: SinusoidPattern,
+    /// Phases `[φx, φy]` (rad; `φy` unused by ridges).
+    pub phase: [f64; 2],
 }
 
 impl ArealSurface for ArealSinusoid {
     fn height(&self, x: f64, y: f64) -> f64 {
         let q = std::f64::consts::TAU / self.wavelength;
+        let [px, py] = self.phase;
         match self.pattern {
-            SinusoidPattern::EggBox => 2.0 * self.rms * (q * x).cos() * (q * y).cos(),
-            SinusoidPattern::Ridges => std::f64::consts::SQRT_2 * self.rms * (q * x).cos(),
+            SinusoidPattern::EggBox => 2.0 * self.rms * (q * x + px).cos() * (q * y + py).cos(),
+            SinusoidPattern::Ridges => std::f64::consts::SQRT_2 * self.rms * (q * x + px).cos(),
         }
     }
 }
@@ -118,15 +136,34 @@ impl ArealSpec {
         match self {
             ArealSpec::Flat | ArealSpec::Heightmap { .. } => Ok(()),
             ArealSpec::Sinusoid {
-                rms, wavelength, ..
+                rms,
+                wavelength,
+                pattern,
+                phase,
+                phase_y,
             } => {
-                // The same rules as the 2D sinusoid.
+                // The same rules as the 2D sinusoid (`phase` included).
                 crate::surface::SurfaceSpec::Sinusoid {
                     rms: *rms,
                     wavelength: *wavelength,
-                    phase: 0.0,
+                    phase: *phase,
                 }
-                .validate(key, width)
+                .validate(key, width)?;
+                if !phase_y.is_finite() {
+                    return Err(Error::invalid(
+                        format!("{key}.phase_y"),
+                        phase_y,
+                        "a finite angle (rad)",
+                    ));
+                }
+                if *pattern == SinusoidPattern::Ridges && *phase_y != 0.0 {
+                    return Err(Error::invalid(
+                        format!("{key}.phase_y"),
+                        phase_y,
+                        "absent with pattern = \"ridges\" (uniform in y; its phase along x is phase)",
+                    ));
+                }
+                Ok(())
             }
             ArealSpec::Random(r) => {
                 r.validate(key, width)?;
@@ -159,10 +196,13 @@ impl ArealSpec {
                 rms,
                 wavelength,
                 pattern,
+                phase,
+                phase_y,
             } => Box::new(ArealSinusoid {
                 rms: *rms,
                 wavelength: *wavelength,
                 pattern: *pattern,
+                phase: [*phase, *phase_y],
             }),
             ArealSpec::Random(r) => Box::new(RandomArealSurface::generate(r, key, width)),
             ArealSpec::Heightmap { file } => {
@@ -464,6 +504,8 @@ mod tests {
                 rms: 1e-6,
                 wavelength: W / 2.0,
                 pattern,
+                phase: 0.0,
+                phase_y: 0.0,
             }
             .build("surface.upper", W, Path::new("."))
             .unwrap();
@@ -477,8 +519,74 @@ mod tests {
             rms: 1e-6,
             wavelength: W,
             pattern: SinusoidPattern::Ridges,
+            phase: [0.0, 0.0],
         };
         assert_eq!(ridges.height(1e-6, 0.0), ridges.height(1e-6, 7e-6));
+    }
+
+    /// `phase`, `phase_y` shift the pattern by `−φλ/2π` along x and y (the
+    /// 2D sinusoid's convention); the RMS is kept; `phase_y` is refused for
+    /// ridges and both must be finite, errors naming the key.
+    #[test]
+    fn sinusoid_phases_shift_the_pattern() {
+        let lambda = W / 2.0;
+        let spec = |pattern, phase, phase_y| ArealSpec::Sinusoid {
+            rms: 1e-6,
+            wavelength: lambda,
+            pattern,
+            phase,
+            phase_y,
+        };
+        let (px, py) = (0.7, -1.9);
+        for (pattern, phase_y) in [
+            (SinusoidPattern::EggBox, py),
+            (SinusoidPattern::Ridges, 0.0),
+        ] {
+            let base = spec(pattern, 0.0, 0.0)
+                .build("surface.upper", W, Path::new("."))
+                .unwrap();
+            let shifted = spec(pattern, px, phase_y)
+                .build("surface.upper", W, Path::new("."))
+                .unwrap();
+            let (dx, dy) = (
+                -px * lambda / std::f64::consts::TAU,
+                -phase_y * lambda / std::f64::consts::TAU,
+            );
+            for (x, y) in [(0.0, 0.0), (1.3e-6, 2.9e-6), (7.7e-6, 4.1e-6)] {
+                let (a, b) = (shifted.height(x, y), base.height(x - dx, y - dy));
+                assert!(
+                    (a - b).abs() < 1e-12 * 1e-6,
+                    "{pattern:?} at ({x}, {y}): {a} vs {b}"
+                );
+            }
+            let (m, q) = mean_square(shifted.as_ref(), 64);
+            assert!(m.abs() < 1e-20 && (q.sqrt() / 1e-6 - 1.0).abs() < 1e-12);
+        }
+        // The egg box with φy differs from the one without (φy is used).
+        let a = spec(SinusoidPattern::EggBox, px, 0.0)
+            .build("surface.upper", W, Path::new("."))
+            .unwrap();
+        let b = spec(SinusoidPattern::EggBox, px, py)
+            .build("surface.upper", W, Path::new("."))
+            .unwrap();
+        assert!((a.height(1e-6, 1e-6) - b.height(1e-6, 1e-6)).abs() > 1e-8);
+        for (s, key) in [
+            (
+                spec(SinusoidPattern::Ridges, 0.0, 0.5),
+                "surface.upper.phase_y",
+            ),
+            (
+                spec(SinusoidPattern::EggBox, f64::NAN, 0.0),
+                "surface.upper.phase",
+            ),
+            (
+                spec(SinusoidPattern::EggBox, 0.0, f64::INFINITY),
+                "surface.upper.phase_y",
+            ),
+        ] {
+            let e = s.validate("surface.upper", W).unwrap_err().to_string();
+            assert!(e.contains(key), "{e}");
+        }
     }
 
     /// The areal random surface: Parseval RMS, zero mean, periodic in x and

@@ -135,14 +135,14 @@ impl BodySurface {
                         "absent with sample.dimension = 2 (egg-box and ridges are areal patterns of [sample] dimension = 3; a 2D sinusoid takes phase)",
                     ));
                 }
-            } else {
-                if let Some(v) = table.get("phase") {
+                if let Some(v) = table.get("phase_y") {
                     return Err(Error::invalid(
-                        format!("{key}.phase"),
+                        format!("{key}.phase_y"),
                         v,
-                        "absent with sample.dimension = 3 (a 3D sinusoid has pattern = \"egg-box\" or \"ridges\", no phase)",
+                        "absent with sample.dimension = 2 (a profile f(x) has one phase, phase; phase_y shifts an egg-box of [sample] dimension = 3 along y)",
                     ));
                 }
+            } else {
                 if let Some(v) = table.get("pattern")
                     && !matches!(v.as_str(), Some("egg-box" | "ridges"))
                 {

@@ -203,6 +203,30 @@ fn areal_surfaces_build_in_3d() {
         e.contains("sample.dimension") && e.contains("profiles"),
         "{e}"
     );
+    // Phases (Sect. 5.3, mismatched cells): the egg box shifted by
+    // −φλ/2π along x and y; a zero phase is not serialized.
+    let shifted = EGG_BOX.replace(
+        "pattern = \"egg-box\"",
+        "phase = 1.5707963267948966\nphase_y = 3.141592653589793",
+    );
+    let c = Case::from_toml(&shifted, Path::new(".")).unwrap();
+    let (s, _) = c.areal_surfaces().unwrap();
+    for (x, y) in [(0.1 * w, 0.2 * w), (0.6 * w, 0.9 * w)] {
+        assert!((s.height(x, y) - u.height(x + 0.25 * w, y + 0.5 * w)).abs() < 1e-18);
+    }
+    let text = toml::to_string(&c.surface.upper).unwrap();
+    assert!(
+        text.contains("phase = ") && text.contains("phase_y = "),
+        "{text}"
+    );
+    let text = toml::to_string(
+        &Case::from_toml(EGG_BOX, Path::new("."))
+            .unwrap()
+            .surface
+            .upper,
+    )
+    .unwrap();
+    assert!(!text.contains("phase"), "{text}");
     // Ridges, random (with the 2D keys), a height map.
     let ridges = EGG_BOX.replace("egg-box", "ridges");
     let c = Case::from_toml(&ridges, Path::new(".")).unwrap();
@@ -262,7 +286,11 @@ fn keys_of_the_other_dimension_are_errors() {
         "wavelength = 1.0e-5\npattern = \"egg-box\"",
     );
     let heightmap_2d = MINIMAL.replace("kind = \"flat\"", "kind = \"heightmap\"\nfile = \"m.csv\"");
-    let phase_3d = EGG_BOX.replace("pattern = \"egg-box\"", "phase = 0.5");
+    let phase_y_2d = MINIMAL.replace("wavelength = 1.0e-5", "wavelength = 1.0e-5\nphase_y = 0.5");
+    let phase_y_ridges = EGG_BOX.replace(
+        "pattern = \"egg-box\"",
+        "pattern = \"ridges\"\nphase_y = 0.5",
+    );
     let profile_3d = EGG_BOX.replace("kind = \"flat\"", "kind = \"profile\"\nfile = \"p.csv\"");
     for (text, key, expected) in [
         (
@@ -281,9 +309,14 @@ fn keys_of_the_other_dimension_are_errors() {
             "needs [sample] dimension = 3",
         ),
         (
-            &phase_3d,
-            "surface.upper.phase",
-            "absent with sample.dimension = 3",
+            &phase_y_2d,
+            "surface.upper.phase_y",
+            "absent with sample.dimension = 2",
+        ),
+        (
+            &phase_y_ridges,
+            "surface.upper.phase_y",
+            "absent with pattern = \"ridges\"",
         ),
         (
             &profile_3d,
