@@ -1,4 +1,5 @@
-//! The paper's 2D homogenization findings (issue 4, spec §10 items 6–9): every
+//! The paper's homogenization findings in 2D (issue 4, spec §10 items 6–9)
+//! and, where done, in 3D (Figs. 12, 13a; issue 12): every
 //! check that `tcgen verify` prints for these cases must pass. Coarse meshes
 //! and few sample sizes by default; `TCGEN_LONG_TESTS=1` runs more heights,
 //! scales and finer meshes (see `verify::homogenization`).
@@ -32,6 +33,16 @@ fn two_phase_jump_scales_linearly_with_the_sample() {
 #[test]
 fn textured_conforming_interface_reaches_eq_3_5() {
     run("textured_conforming");
+}
+
+/// Fig. 12 in 3D (6 × 6 × 3 elements both, matching egg boxes, LN and PR):
+/// the jump reaches (3.5) with the computed `[pN^α]` to 1e−5 at ε = 0.001
+/// (measured 1.7e−7; 1.5e−4 at ε = 1) and is 0.773 of the flat (3.6) value;
+/// a matching random texture (8 × 8 × 4, RMS 0.5 μm, ε = 1) within 5e−4 of
+/// (3.5) = (3.7) (measured 6.6e−5), 0.906 of the flat value. About 15 s.
+#[test]
+fn textured_conforming_interface_reaches_eq_3_5_in_3d() {
+    run("textured_conforming_3d");
 }
 
 /// Fig. 14a: self-consistency converges in at most 8 iterations (7 at 1e4 Pa).
