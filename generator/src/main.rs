@@ -872,6 +872,7 @@ fn solve(path: &std::path::Path, json: bool, vtk: Option<std::path::PathBuf>) ->
     }
     // The lateral offset of the upper body only when its top face slides.
     let sliding = case.sample.top_lateral == tcgen::sample::case::TopLateral::Free;
+    let sliding_y = sliding && case.dimension() == 3;
     // The error estimate, unknowns and levels of the adaptive meshes.
     let adaptive = case.discretization.target_error.is_some();
     if !json {
@@ -881,10 +882,10 @@ fn solve(path: &std::path::Path, json: bool, vtk: Option<std::path::PathBuf>) ->
             "contact",
             "mean_gap/m",
             "approach/m",
-            if sliding {
-                format!(" {:>12}", "offset/m")
-            } else {
-                String::new()
+            match (sliding, sliding_y) {
+                (true, true) => format!(" {:>12} {:>12}", "offset/m", "offset_y/m"),
+                (true, false) => format!(" {:>12}", "offset/m"),
+                _ => String::new(),
             },
             "jump/K",
             if adaptive {
@@ -915,10 +916,13 @@ fn solve(path: &std::path::Path, json: bool, vtk: Option<std::path::PathBuf>) ->
                 r.interface.contact_fraction,
                 r.interface.mean_gap,
                 r.interface.approach,
-                if sliding {
-                    format!(" {:>12.4e}", r.interface.lateral_offset)
-                } else {
-                    String::new()
+                match (sliding, sliding_y) {
+                    (true, true) => format!(
+                        " {:>12.4e} {:>12.4e}",
+                        r.interface.lateral_offset, r.interface.lateral_offset_y
+                    ),
+                    (true, false) => format!(" {:>12.4e}", r.interface.lateral_offset),
+                    _ => String::new(),
                 },
                 r.jump,
                 if adaptive {

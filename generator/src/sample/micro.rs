@@ -109,14 +109,25 @@ pub fn sample_geometry_3d(
     let fit_lower = fit_height_map(&fl, w, d.degree, nl)?;
     let gap = |x: f64, y: f64| fit_lower.height_at(x, y) - fit_upper.height_at(x, y);
     let n = 16 * (nu.into_iter().chain(nl).max().unwrap_or(1) + 1);
+    let g0 = maximum_on_cell(gap, w, n);
+    Ok(SampleGeometry {
+        fit_upper: SampleFit::Areal(fit_upper),
+        fit_lower: SampleFit::Areal(fit_lower),
+        g0,
+    })
+}
+
+/// The maximum of `f(x, y)` over the cell `[0, W]²`: the best of an
+/// `(n + 1)²` grid, refined by a compass search (steps halved to `1e-12 W`).
+fn maximum_on_cell(f: impl Fn(f64, f64) -> f64, w: f64, n: usize) -> f64 {
     let h = w / n as f64;
-    let (mut best, mut gb) = ([0.0, 0.0], f64::NEG_INFINITY);
+    let (mut best, mut fb) = ([0.0, 0.0], f64::NEG_INFINITY);
     for j in 0..=n {
         for i in 0..=n {
             let (x, y) = (h * i as f64, h * j as f64);
-            let g = gap(x, y);
-            if g > gb {
-                (best, gb) = ([x, y], g);
+            let v = f(x, y);
+            if v > fb {
+                (best, fb) = ([x, y], v);
             }
         }
     }
@@ -128,20 +139,16 @@ pub fn sample_geometry_3d(
                 (best[0] + step * d[0]).clamp(0.0, w),
                 (best[1] + step * d[1]).clamp(0.0, w),
             ];
-            let g = gap(c[0], c[1]);
-            if g > gb {
-                (best, gb, moved) = (c, g, true);
+            let v = f(c[0], c[1]);
+            if v > fb {
+                (best, fb, moved) = (c, v, true);
             }
         }
         if !moved {
             step *= 0.5;
         }
     }
-    Ok(SampleGeometry {
-        fit_upper: SampleFit::Areal(fit_upper),
-        fit_lower: SampleFit::Areal(fit_lower),
-        g0: gb,
-    })
+    fb
 }
 
 /// Fits both surfaces at the discretization's resolution and finds `g0`.
@@ -300,17 +307,16 @@ pub fn place_at_first_touch(case: &Case, geo: &SampleGeometry, model: &mut Model
         && case.sample.top_lateral == TopLateral::Free
     {
         // Start from the rigid bodies' equilibrium: the upper body slid to
-        // the offset where it first touches lowest (Newton then corrects it
-        // for elasticity, instead of sliding a wavelength fraction itself).
-        // (3D: no rigid pre-slide yet; Newton slides from the reference.)
-        let s = match geo.fit_upper {
-            SampleFit::Profile(_) => model.scales.len(rigid_sliding_offset(case, geo)),
-            SampleFit::Areal(_) => 0.0,
-        };
+        // the offset (x, and y in 3D) where it first touches lowest (Newton
+        // then corrects it for elasticity, instead of sliding a wavelength
+        // fraction itself).
+        let s = rigid_sliding_offset(case, geo).map(|s| model.scales.len(s));
         let nf = model.dim + 1;
         let b = &model.bodies[UPPER];
         for n in b.node_offset..b.node_offset + b.patch.n_control_points() {
-            model.state[n * nf] = s;
+            for (d, &sd) in s.iter().enumerate().take(model.dim - 1) {
+                model.state[n * nf + d] = sd;
+            }
         }
     }
     let vertical = model.dim - 1;
@@ -412,19 +418,24 @@ pub fn interface_refined(
 }
 
 /// The first-touch offset `g0(s) = max_x (f2(x) − f1(x − s))` (m) of the
-/// fitted surfaces when the upper body is slid laterally by `s` (m), periodic
-/// in `x` (PR): the best of `samples` points, refined by golden-section search.
-pub fn first_touch_offset(geo: &SampleGeometry, width: f64, s: f64, samples: usize) -> f64 {
-    let gap = |x: f64| {
-        let xl = x.rem_euclid(width);
-        let xu = (x - s).rem_euclid(width);
-        geo.fit_lower.height_at(xl, 0.0) - geo.fit_upper.height_at(xu, 0.0)
+/// fitted surfaces when the upper body is slid laterally by `s` (m; `s[1]`
+/// along y, 3D only), periodic in x (and y) (PR). Profiles: the best of
+/// `samples` points, refined by golden-section search; height maps: the best
+/// of a `samples × samples` grid, refined by a compass search.
+pub fn first_touch_offset(geo: &SampleGeometry, width: f64, s: [f64; 2], samples: usize) -> f64 {
+    let gap = |x: f64, y: f64| {
+        let (xl, yl) = (x.rem_euclid(width), y.rem_euclid(width));
+        let (xu, yu) = ((x - s[0]).rem_euclid(width), (y - s[1]).rem_euclid(width));
+        geo.fit_lower.height_at(xl, yl) - geo.fit_upper.height_at(xu, yu)
     };
+    if let SampleFit::Areal(_) = geo.fit_upper {
+        return maximum_on_cell(gap, width, samples);
+    }
     let dx = width / samples as f64;
     let (mut xb, mut gb) = (0.0, f64::NEG_INFINITY);
     for i in 0..samples {
         let x = dx * i as f64;
-        let g = gap(x);
+        let g = gap(x, 0.0);
         if g > gb {
             (xb, gb) = (x, g);
         }
@@ -433,45 +444,89 @@ pub fn first_touch_offset(geo: &SampleGeometry, width: f64, s: f64, samples: usi
     let r = 0.5 * (5f64.sqrt() - 1.0);
     for _ in 0..60 {
         let (c, e) = (b - r * (b - a), a + r * (b - a));
-        if gap(c) > gap(e) { b = e } else { a = c }
+        if gap(c, 0.0) > gap(e, 0.0) {
+            b = e
+        } else {
+            a = c
+        }
     }
-    gb.max(gap(0.5 * (a + b)))
+    gb.max(gap(0.5 * (a + b), 0.0))
 }
 
-/// The lateral offset (m) to which rigid bodies under a normal load slide
-/// from the reference position (PR, frictionless): the local minimum of the
-/// first-touch height [`first_touch_offset`] reached downhill from `s = 0`
-/// (on a grid of `W/512`, refined by golden-section search; the lower
-/// neighbour decides at a maximum, `+` on a tie). Within `(−W, W)`.
-pub fn rigid_sliding_offset(case: &Case, geo: &SampleGeometry) -> f64 {
+/// The lateral offset `s` (m; `[sx, 0]` in 2D, `[sx, sy]` in 3D) to which
+/// rigid bodies under a normal load slide from the reference position (PR,
+/// frictionless): the local minimum of the first-touch height
+/// [`first_touch_offset`] reached downhill from `s = 0`. A walk with steps
+/// of `h = W/512` (each step to the lowest of the neighbours `s ± h e_x` in
+/// 2D, and in 3D also `s ± h e_y` and the four diagonal ones at distance
+/// `h`: the height is a maximum over the cell, not smooth, and its valleys
+/// need not follow the axes; on a tie the first of them; at most 512 steps,
+/// so within `(−W, W)` per axis; a step must lower the height by more than
+/// `1e-9 W`), then the same search with the step halved to `1e-9 W`.
+/// `[0, 0]` exactly when no neighbour of the reference is lower (a neutral
+/// cell: a sinusoid on a flat).
+pub fn rigid_sliding_offset(case: &Case, geo: &SampleGeometry) -> [f64; 2] {
     let w = case.sample.width;
     let d = &case.discretization;
-    let samples = 64 * (d.elements_upper.along(0).max(d.elements_lower.along(0)) + 1);
+    let areal = matches!(geo.fit_upper, SampleFit::Areal(_));
+    let axes = if areal { 2 } else { 1 };
+    let finest = (0..axes)
+        .map(|a| d.elements_upper.along(a).max(d.elements_lower.along(a)))
+        .max()
+        .unwrap_or(1);
+    // Profiles: 64 points per element; height maps: an 8-per-element grid
+    // (the compass search refines the maximum of each evaluation).
+    let samples = if areal { 8 } else { 64 } * (finest + 1);
+    let z = |s: [f64; 2]| first_touch_offset(geo, w, s, samples);
+    let tol = 1e-9 * w;
+    let r = std::f64::consts::FRAC_1_SQRT_2;
+    let directions: Vec<[f64; 2]> = [
+        [1.0, 0.0],
+        [-1.0, 0.0],
+        [0.0, 1.0],
+        [0.0, -1.0],
+        [r, r],
+        [-r, -r],
+        [r, -r],
+        [-r, r],
+    ]
+    .into_iter()
+    .take(if areal { 8 } else { 2 })
+    .collect();
+    // The lowest neighbour of s at distance h, if lower than z(s) − tol.
+    let descend = |s: [f64; 2], zs: f64, h: f64, tol: f64| {
+        directions
+            .iter()
+            .map(|e| {
+                let c = [s[0] + h * e[0], s[1] + h * e[1]];
+                (c, z(c))
+            })
+            .fold(None, |best: Option<([f64; 2], f64)>, (c, zc)| match best {
+                Some((_, zb)) if zb <= zc => best,
+                _ if zc < zs - tol => Some((c, zc)),
+                _ => best,
+            })
+    };
     let n = 512;
     let h = w / n as f64;
-    let z = |s: f64| first_touch_offset(geo, w, s, samples);
-    let (mut k, mut zk) = (0i64, z(0.0));
-    let (zp, zm) = (z(h), z(-h));
-    let step = if zp <= zm { 1 } else { -1 };
-    let tol = 1e-9 * w;
-    if zp.min(zm) < zk - tol {
-        while k.abs() < n {
-            let zn = z((k + step) as f64 * h);
-            if zn >= zk - tol {
-                break;
-            }
-            (k, zk) = (k + step, zn);
+    let (mut s, mut zs) = ([0.0, 0.0], z([0.0, 0.0]));
+    for _ in 0..n {
+        match descend(s, zs, h, tol) {
+            Some(next) => (s, zs) = next,
+            None => break,
         }
-    } else {
-        return 0.0;
     }
-    let (mut a, mut b) = ((k - 1) as f64 * h, (k + 1) as f64 * h);
-    let r = 0.5 * (5f64.sqrt() - 1.0);
-    for _ in 0..60 {
-        let (c, e) = (b - r * (b - a), a + r * (b - a));
-        if z(c) < z(e) { b = e } else { a = c }
+    if s == [0.0, 0.0] {
+        return s;
     }
-    0.5 * (a + b)
+    let mut step = 0.5 * h;
+    while step > tol {
+        match descend(s, zs, step, 0.0) {
+            Some(next) => (s, zs) = next,
+            None => step *= 0.5,
+        }
+    }
+    s
 }
 
 /// The slave body's index for a case.
@@ -499,6 +554,8 @@ pub struct InterfaceMeasures {
     /// Lateral offset of the upper body: the mean `ux` of its top control
     /// points (m); zero when the top face is held laterally.
     pub lateral_offset: f64,
+    /// The same along y: the mean `uy` (m; 3D, zero in 2D).
+    pub lateral_offset_y: f64,
 }
 
 /// Measures the interface of a solved model; `alpha` the exponent of `[pN^α]`.
@@ -540,37 +597,44 @@ pub fn measure(model: &Model, alpha: f64) -> Result<InterfaceMeasures> {
         .fold(0.0, f64::max);
     let pl = &model.platens()[0];
     let top = model.bodies[UPPER].face_nodes(model.dim - 1, Side::High);
-    let lateral_offset =
-        top.iter().map(|&n| model.displacement(n, 0)).sum::<f64>() / top.len() as f64;
+    let offset =
+        |d: usize| top.iter().map(|&n| model.displacement(n, d)).sum::<f64>() / top.len() as f64;
     Ok(InterfaceMeasures {
         contact_fraction: if width > 0.0 { contact / width } else { 0.0 },
         mean_gap: c.mean_gap() * s.length,
         mean_pressure_power: ppow * s.stress.powf(alpha),
         max_active_jump: max_jump * s.temperature,
         approach: -model.displacement(pl.nodes[0], pl.field),
-        lateral_offset,
+        lateral_offset: offset(0),
+        lateral_offset_y: if model.dim == 3 { offset(1) } else { 0.0 },
     })
 }
 
-/// The net lateral force on the upper body along x (N per m of depth in 2D, N in 3D) when its top
-/// face slides freely (PR, `top_lateral = "free"`): the residual of the
-/// sliding platen's equation, i.e. the net tangential contact force, which
-/// equilibrium makes zero. `None` without a sliding platen or outside the
-/// mechanical unknowns (thermal phase).
-pub fn net_lateral_force(model: &mut Model) -> Result<Option<f64>> {
-    let Some(eq) = model
+/// The net lateral forces on the upper body along x (and y in 3D) (N per m
+/// of depth in 2D, N in 3D) when its top face slides freely (PR,
+/// `top_lateral = "free"`): the residuals of the sliding platens'
+/// equations, i.e. the net tangential contact force, which equilibrium makes
+/// zero. `None` without a sliding platen or outside the mechanical unknowns
+/// (thermal phase).
+pub fn net_lateral_force(model: &mut Model) -> Result<Option<Vec<f64>>> {
+    let eqs: Vec<usize> = model
         .platens()
         .iter()
-        .find(|p| p.regularization > 0.0)
-        .and_then(|p| model.dofs().eq(p.nodes[0], p.field))
-    else {
+        .filter(|p| p.regularization > 0.0)
+        .filter_map(|p| model.dofs().eq(p.nodes[0], p.field))
+        .collect();
+    if eqs.is_empty() {
         return Ok(None);
-    };
+    }
     model.prepare()?;
     let mut r = vec![0.0; model.n_eq()];
     model.assemble(None, &mut r)?;
     let area = model.scales.length.powi(model.dim as i32 - 1);
-    Ok(Some(r[eq] * model.scales.stress * area))
+    Ok(Some(
+        eqs.iter()
+            .map(|&eq| r[eq] * model.scales.stress * area)
+            .collect(),
+    ))
 }
 
 #[cfg(test)]
@@ -601,12 +665,64 @@ mod tests {
         ] {
             let (case, geo) = geometry(&sin(phase), &sin(0.0));
             let s = rigid_sliding_offset(&case, &geo);
-            assert!((s - expected).abs() < 1e-3 * w, "phase {phase}: {s}");
+            assert!(
+                (s[0] - expected).abs() < 1e-3 * w && s[1] == 0.0,
+                "phase {phase}: {s:?}"
+            );
             // There the surfaces match (up to the fits).
             assert!(first_touch_offset(&geo, w, s, 4096) < 1e-8);
         }
         // A sinusoid on a flat is neutral: no slide.
         let (case, geo) = geometry(&sin(0.3), "kind = \"flat\"");
-        assert_eq!(rigid_sliding_offset(&case, &geo), 0.0);
+        assert_eq!(rigid_sliding_offset(&case, &geo), [0.0, 0.0]);
+    }
+
+    /// 3D: an egg box shifted by the phases `(φx, φy)` slides back by
+    /// `(φx, φy)λ/2π` along x and y (the matched pair nearest downhill; the
+    /// egg box repeats after `(λ/2, λ/2)` as well), where the fitted surfaces
+    /// match; an egg box on a flat does not slide.
+    #[test]
+    fn rigid_sliding_offset_matches_shifted_egg_boxes_in_3d() {
+        let egg = |px: f64, py: f64| {
+            format!(
+                "kind = \"sinusoid\"\npattern = \"egg-box\"\nrms = 1e-6\nwavelength = 1e-5\n\
+                 phase = {px:e}\nphase_y = {py:e}"
+            )
+        };
+        let w = 1.0e-5;
+        let geometry_3d = |upper: &str, lower: &str| {
+            let text = format!(
+                "[sample]\ndimension = 3\nlateral = \"periodic\"\n\
+                 [surface.upper]\n{upper}\n[surface.lower]\n{lower}\n\
+                 [discretization]\nelements_upper = [6, 6, 3]\nelements_lower = [5, 5, 3]\n"
+            );
+            let case = Case::from_toml(&text, std::path::Path::new(".")).unwrap();
+            let (su, sl) = case.areal_surfaces().unwrap();
+            let geo = sample_geometry_3d(&case, su.as_ref(), sl.as_ref()).unwrap();
+            (case, geo)
+        };
+        use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
+        for (px, py) in [
+            (FRAC_PI_2, 0.0),
+            (FRAC_PI_2, FRAC_PI_4),
+            (-FRAC_PI_4, FRAC_PI_2),
+        ] {
+            let (case, geo) = geometry_3d(&egg(px, py), &egg(0.0, 0.0));
+            let s = rigid_sliding_offset(&case, &geo);
+            let expected = [px, py].map(|p| p / std::f64::consts::TAU * w);
+            for a in 0..2 {
+                assert!(
+                    (s[a] - expected[a]).abs() < 1e-3 * w,
+                    "phases ({px}, {py}): {s:?}, expected {expected:?}"
+                );
+            }
+            // There the exact surfaces match: the first-touch height of the
+            // fitted ones is bounded by the fits' errors.
+            let at = |s: [f64; 2]| first_touch_offset(&geo, w, s, 56);
+            let fits = geo.fit_upper.max_error() + geo.fit_lower.max_error();
+            assert!(at(s) <= fits, "{} vs the fits' {fits}", at(s));
+        }
+        let (case, geo) = geometry_3d(&egg(0.3, 0.2), "kind = \"flat\"");
+        assert_eq!(rigid_sliding_offset(&case, &geo), [0.0, 0.0]);
     }
 }
