@@ -28,6 +28,17 @@ fn law_of_reference(args: &[&str], out: &Path) -> std::process::Output {
 
 /// Runs `cmd`, asserts that it succeeded (the command and its output in
 /// the message) and returns its standard output.
+/// Runs `tcgen sweep` quietly from `sweep` into `table` and reads the table.
+fn swept(sweep: &Path, table: &Path) -> tcgen::io::Table {
+    succeeded(
+        Command::new(env!("CARGO_BIN_EXE_tcgen"))
+            .args(["sweep", "--progress", "quiet", "-o"])
+            .arg(table)
+            .arg(sweep),
+    );
+    tcgen::io::read_table(table).unwrap()
+}
+
 fn succeeded(cmd: &mut Command) -> String {
     let o = cmd.output().unwrap();
     let out = String::from_utf8_lossy(&o.stdout).into_owned();
@@ -234,6 +245,71 @@ fn check_prints_the_resolved_case_and_refuses_what_cannot_fit() {
 /// counts in the resolved configuration); `solve` and `sweep` run it in 3D
 /// (a coarse egg box) and the table and the law record the dimension and the
 /// cell; `surface` writes its height map.
+/// Issue 12 item 7: a 3D ensemble sweep (random areal surfaces on a flat,
+/// two samples, continuation over two pressures) tables every sample: the
+/// samples' surfaces differ and so do their jumps, each falls with pressure,
+/// and the law's mean is the samples' mean.
+#[test]
+fn a_3d_random_ensemble_is_swept_and_mapped() {
+    let dir = scratch("cli-3d-ensemble");
+    let sweep = dir.join("random_3d.toml");
+    std::fs::write(
+        &sweep,
+        r#"
+[sample]
+dimension = 3
+width = 1.0e-5
+height = 7.0e-6
+lateral = "periodic"
+[surface.upper]
+kind = "random"
+rms = 5.0e-7
+spectrum = "gaussian"
+correlation_length = 3.0e-6
+[surface.lower]
+kind = "flat"
+[discretization]
+degree = 2
+elements_upper = [3, 3, 1]
+elements_lower = [2, 2, 1]
+[homogenization]
+method = "two-phase"
+[sweep]
+pressures = [3.0e4, 1.0e5]
+fluxes = 1.0e6
+contact_temperatures = 293.15
+samples = 2
+seed = 1
+continuation = true
+"#,
+    )
+    .unwrap();
+    let table = dir.join("t.h5");
+    let tcgen = || Command::new(env!("CARGO_BIN_EXE_tcgen"));
+    let t = swept(&sweep, &table);
+    assert_eq!(t.samples, 2);
+    let jump = |ip: usize, is: usize| {
+        t.point(ip, 0, 0, is)
+            .values
+            .unwrap_or_else(|| panic!("pressure {ip}, sample {is} failed"))
+            .jump
+    };
+    for is in 0..2 {
+        assert!(jump(1, is) < jump(0, is), "sample {is}");
+    }
+    for ip in 0..2 {
+        let (a, b) = (jump(ip, 0), jump(ip, 1));
+        assert!((a - b).abs() > 1e-3 * a, "pressure {ip}: {a} vs {b}");
+    }
+    let law = dir.join("t.tclaw");
+    succeeded(tcgen().arg("law").arg("-o").arg(&law).arg(&table));
+    let law = lookup::Law::open(&law).unwrap();
+    for ip in 0..2 {
+        let mean = 0.5 * (jump(ip, 0) + jump(ip, 1));
+        assert!((law.jump_mean()[ip] - mean).abs() < 1e-12 * mean);
+    }
+}
+
 #[test]
 fn a_3d_case_is_checked_solved_tabled_and_mapped() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
@@ -287,13 +363,7 @@ fn a_3d_case_is_checked_solved_tabled_and_mapped() {
     )
     .unwrap();
     let table = dir.join("t.h5");
-    succeeded(
-        tcgen()
-            .args(["sweep", "--progress", "quiet", "-o"])
-            .arg(&table)
-            .arg(&sweep),
-    );
-    let t = tcgen::io::read_table(&table).unwrap();
+    let t = swept(&sweep, &table);
     let p = t.points[0].values.expect("converged");
     assert!((p.jump - jump).abs() < 1e-9 * jump, "{} vs {jump}", p.jump);
     let law = dir.join("t.tclaw");
