@@ -1,6 +1,7 @@
 //! 3D micro-sample geometry (issue 12 item 1): the bivariate B-spline fit of
 //! a height function on the periodic cell converges at the interpolation
-//! order `p + 1`, reports its error, is periodic for periodic surfaces, and
+//! order `p + 1`, reports its error, is periodic and smooth across the seams
+//! (the periodic spline interpolant) for periodic surfaces, and
 //! the rough NURBS volumes of both bodies (non-matching meshes) carry the
 //! fitted surface exactly with a positive Jacobian.
 
@@ -55,10 +56,59 @@ fn areal_fit_is_periodic_and_exact_on_the_cell_boundary() {
     for i in 0..nx {
         assert_eq!(fit.heights[i], fit.heights[(ny - 1) * nx + i]);
     }
-    // On the boundary the fit is the 1D interpolant of f's trace: at the corners, exact.
-    assert!((fit.height_at(0.0, 0.0) - f(0.0, 0.0)).abs() < 1e-18);
     assert!(fit.rms_error > 0.0 && fit.rms_error < fit.max_error);
     assert!(fit_height_map(&f, W, 0, [4, 4]).is_err());
+    // A surface that is not periodic: interpolated at the Greville points,
+    // which include the corners.
+    let g = |x: f64, y: f64| 1e-7 * (x / W + 2.0 * (y / W).powi(2)) + f(x, y);
+    let fit = fit_height_map(&g, W, 2, [5, 4]).unwrap();
+    for (x, y) in [(0.0, 0.0), (W, 0.0), (0.0, W), (W, W)] {
+        assert!((fit.height_at(x, y) - g(x, y)).abs() < 1e-18, "({x}, {y})");
+    }
+}
+
+/// A periodic surface on a coarse mesh (5 × 4 elements): the fit is the
+/// periodic spline interpolant, C^(p−1) across both seams of the cell (one-
+/// sided slopes agree; a clamped interpolant would kink there), and it
+/// interpolates at the periodic Greville points (knots for odd p, element
+/// mid-points for even p).
+#[test]
+fn periodic_areal_fit_is_smooth_across_the_seams() {
+    let tau = std::f64::consts::TAU;
+    let f = |x: f64, y: f64| {
+        1e-6 * ((tau * (x + 2.0 * y) / W + 0.7).sin() + 0.5 * (2.0 * tau * y / W - 0.2).cos())
+    };
+    let n = [5usize, 4];
+    for p in [1usize, 2, 3] {
+        let fit = fit_height_map(&f, W, p, n).unwrap();
+        let offset = if p % 2 == 1 { 0.0 } else { 0.5 };
+        for i in 0..n[0] {
+            for j in 0..n[1] {
+                let (x, y) = (
+                    W * (i as f64 + offset) / n[0] as f64,
+                    W * (j as f64 + offset) / n[1] as f64,
+                );
+                let e = (fit.height_at(x, y) - f(x, y)).abs();
+                assert!(e < 1e-12 * 1e-6, "p = {p}: error {e} at ({x}, {y})");
+            }
+        }
+        let h = 1e-6 * W;
+        for t in [0.13, 0.5, 0.91].map(|t| t * W) {
+            let z = |x: f64, y: f64| fit.height_at(x, y);
+            let seams = [z(0.0, t) - z(W, t), z(t, 0.0) - z(t, W)];
+            assert!(seams.iter().all(|d| d.abs() < 1e-18), "p = {p}: {seams:?}");
+            if p == 1 {
+                continue;
+            }
+            // One-sided slopes across the x seam and the y seam.
+            let sx = [(z(h, t) - z(0.0, t)) / h, (z(W, t) - z(W - h, t)) / h];
+            let sy = [(z(t, h) - z(t, 0.0)) / h, (z(t, W) - z(t, W - h)) / h];
+            let scale = 1e-6 * tau / W;
+            for s in [sx, sy] {
+                assert!((s[0] - s[1]).abs() < 1e-4 * scale, "p = {p}: slopes {s:?}");
+            }
+        }
+    }
 }
 
 /// Both bodies of a 3D sample, non-matching (different element counts):

@@ -341,31 +341,108 @@ impl ArealFit {
     }
 }
 
-/// Solves the Greville collocation system of `knots` for each right-hand
-/// side (interpolation: end values exact).
-fn collocate(knots: &KnotVector, rhs: &mut [Vec<f64>]) -> Result<()> {
+/// The collocation abscissae of the open uniform `knots` on `[0, 1]`: the
+/// Greville points; `periodic`: those of the periodic (wrapped) B-splines on
+/// the same breaks, `u_k = ((k + (p + 1)/2)/n) mod 1`, `k < n` (the knots for
+/// odd `p`, the element mid-points for even `p`: Schoenberg's cardinal
+/// interpolation, uniquely solvable).
+fn collocation_points(knots: &KnotVector, periodic: bool) -> Vec<f64> {
+    if !periodic {
+        return knots.greville();
+    }
+    let (p, n) = (knots.degree(), knots.n_elements());
+    (0..n)
+        .map(|k| ((2 * k + p + 1) % (2 * n)) as f64 / (2 * n) as f64)
+        .collect()
+}
+
+/// Solves the collocation system of `knots` at [`collocation_points`] for
+/// each right-hand side, in place; the solutions are the `n + p` coefficients
+/// of the open (clamped) basis. Not periodic: interpolation at the Greville
+/// points (end values exact). Periodic: the `n` interpolation conditions and
+/// `p` seam conditions `s^(k)(1) = s^(k)(0)`, `k < p`, i.e. the periodic
+/// spline (C^(p−1) across the seam, as at every interior knot) written in the
+/// open basis; solved densely (LU with partial pivoting).
+fn collocate(knots: &KnotVector, periodic: bool, rhs: &mut [Vec<f64>]) -> Result<()> {
     let p = knots.degree();
-    let greville = knots.greville();
-    let mut band = Banded::new(greville.len(), p);
-    for (i, &g) in greville.iter().enumerate() {
-        let span = knots.find_span(g);
-        let ders = basis_ders(knots, span, g, 0);
+    let points = collocation_points(knots, periodic);
+    if !periodic {
+        let mut band = Banded::new(points.len(), p);
+        for (i, &g) in points.iter().enumerate() {
+            let span = knots.find_span(g);
+            let ders = basis_ders(knots, span, g, 0);
+            for j in 0..=p {
+                band.add(i, span - p + j, ders[0][j]);
+            }
+        }
+        for r in rhs.iter_mut() {
+            *r = band.clone().solve(std::mem::take(r))?;
+        }
+        return Ok(());
+    }
+    let m = knots.n_basis();
+    let mut a = nalgebra::DMatrix::<f64>::zeros(m, m);
+    for (i, &u) in points.iter().enumerate() {
+        let span = knots.find_span(u);
+        let ders = basis_ders(knots, span, u, 0);
         for j in 0..=p {
-            band.add(i, span - p + j, ders[0][j]);
+            a[(i, span - p + j)] = ders[0][j];
         }
     }
+    let (first, last) = (knots.find_span(0.0), knots.find_span(1.0));
+    let (d0, d1) = (
+        basis_ders(knots, first, 0.0, p - 1),
+        basis_ders(knots, last, 1.0, p - 1),
+    );
+    for k in 0..p {
+        let row = points.len() + k;
+        for j in 0..=p {
+            a[(row, last - p + j)] += d1[k][j];
+            a[(row, first - p + j)] -= d0[k][j];
+        }
+    }
+    let lu = a.lu();
     for r in rhs.iter_mut() {
-        *r = band.clone().solve(std::mem::take(r))?;
+        let mut b = nalgebra::DVector::<f64>::zeros(m);
+        b.rows_mut(0, r.len()).copy_from_slice(r);
+        let c = lu.solve(&b).ok_or_else(|| {
+            Error::Geometry("periodic surface fit: singular collocation matrix".into())
+        })?;
+        *r = c.iter().copied().collect();
     }
     Ok(())
 }
 
+/// Whether `f(x, y)` is periodic over the cell along x (`axis` 0) or y (1):
+/// `f(0, t) = f(W, t)` (with y for t along x, and x for t along y) at 64
+/// ordinates, to 1e-12 of the largest `|f|` there.
+fn periodic_along(f: &dyn Fn(f64, f64) -> f64, width: f64, axis: usize) -> bool {
+    let ends: Vec<(f64, f64)> = (0..64)
+        .map(|k| {
+            let t = width * (k as f64 + 0.3) / 64.0;
+            if axis == 0 {
+                (f(0.0, t), f(width, t))
+            } else {
+                (f(t, 0.0), f(t, width))
+            }
+        })
+        .collect();
+    let scale = ends
+        .iter()
+        .fold(f64::MIN_POSITIVE, |m, (a, b)| m.max(a.abs()).max(b.abs()));
+    ends.iter().all(|(a, b)| (a - b).abs() <= 1e-12 * scale)
+}
+
 /// Fits `z = f(x, y)` on the cell `[0, W]²` by a tensor-product B-spline graph
-/// of `degree` with `n_elements = [n_x, n_y]` uniform elements, interpolating
-/// at the Greville points (collocation, separable: along x, then along y;
-/// the edges interpolate `f` on the cell's boundary, and opposite edges are
-/// set bitwise equal where they agree to 1e-12, so a periodic `f` gives a
-/// periodic fit). The error is measured on a dense sample.
+/// of `degree` with `n_elements = [n_x, n_y]` uniform elements, by
+/// collocation (separable: along x, then along y). Along a direction in which
+/// `f` is periodic (every areal surface of a case) the fit is the periodic
+/// spline interpolant: C^(p−1) across the cell's seam as at every interior
+/// knot, so a periodic master has no kink there (a kink makes the closest
+/// point of a slave point above it jump between its two sides, and Newton
+/// cycle); opposite edges are then set bitwise equal. Otherwise it
+/// interpolates at the Greville points (the edges interpolate `f` on the
+/// boundary). The error is measured on a dense sample.
 pub fn fit_height_map(
     f: &dyn Fn(f64, f64) -> f64,
     width: f64,
@@ -378,41 +455,41 @@ pub fn fit_height_map(
         )));
     }
     let knots = n_elements.map(|n| KnotVector::open_uniform(degree, n, 0.0, 1.0));
-    let [gx, gy] = [knots[0].greville(), knots[1].greville()];
-    let (nx, ny) = (gx.len(), gy.len());
-    // Along x for every Greville row y_j, then along y for every column.
-    let mut rows: Vec<Vec<f64>> = gy
+    let periodic = [0, 1].map(|axis| periodic_along(f, width, axis));
+    let [ux, uy] = [0, 1].map(|d| collocation_points(&knots[d], periodic[d]));
+    let (nx, ny) = (knots[0].n_basis(), knots[1].n_basis());
+    // Along x for every collocation row y_j, then along y for every column.
+    let mut rows: Vec<Vec<f64>> = uy
         .iter()
-        .map(|&v| gx.iter().map(|&u| f(width * u, width * v)).collect())
+        .map(|&v| ux.iter().map(|&u| f(width * u, width * v)).collect())
         .collect();
-    collocate(&knots[0], &mut rows)?;
+    collocate(&knots[0], periodic[0], &mut rows)?;
     let mut columns: Vec<Vec<f64>> = (0..nx)
         .map(|i| rows.iter().map(|r| r[i]).collect())
         .collect();
-    collocate(&knots[1], &mut columns)?;
+    collocate(&knots[1], periodic[1], &mut columns)?;
     let mut heights = vec![0.0; nx * ny];
     for (i, c) in columns.iter().enumerate() {
         for (j, h) in c.iter().enumerate() {
             heights[j * nx + i] = *h;
         }
     }
-    let close =
-        |a: f64, b: f64| (a - b).abs() <= 1e-12 * a.abs().max(b.abs()).max(f64::MIN_POSITIVE);
-    let edges_agree = (0..ny).all(|j| close(heights[j * nx], heights[j * nx + nx - 1]));
-    if edges_agree {
+    // Periodic: the seam's control points agree to rounding; make them equal.
+    if periodic[0] {
         for j in 0..ny {
             let m = 0.5 * (heights[j * nx] + heights[j * nx + nx - 1]);
             heights[j * nx] = m;
             heights[j * nx + nx - 1] = m;
         }
     }
-    if (0..nx).all(|i| close(heights[i], heights[(ny - 1) * nx + i])) {
+    if periodic[1] {
         for i in 0..nx {
             let m = 0.5 * (heights[i] + heights[(ny - 1) * nx + i]);
             heights[i] = m;
             heights[(ny - 1) * nx + i] = m;
         }
     }
+    let [gx, gy] = [knots[0].greville(), knots[1].greville()];
     let mut fit = ArealFit {
         knots,
         x: gx.iter().map(|g| width * g).collect(),

@@ -177,11 +177,15 @@ impl Cells {
     /// of the meshes), reported only.
     fn tolerances(&self) -> Tolerances {
         match self.dimension {
+            // The free cell's fitted surfaces are not the matched pair's
+            // shifted (fitted at other positions of the meshes, 6 × 6 / 5 × 5
+            // elements per wavelength: fit errors 2 % of the amplitude); the
+            // jumps differ by 1.2e-3 of LN (periodic fits).
             3 => Tolerances {
                 symmetric: 5e-5,
                 offset: 5e-4,
                 matched: f64::INFINITY,
-                matched_over_ln: 5e-4,
+                matched_over_ln: 2e-3,
             },
             _ => Tolerances {
                 symmetric: 1e-6,
