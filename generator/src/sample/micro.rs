@@ -357,10 +357,18 @@ pub fn build_model_on(
             LateralCondition::Linear => {
                 mb.linear_lateral(lo, lateral, lateral);
                 mb.linear_lateral(up, lateral, lateral);
+                if dim == 3 {
+                    mb.smooth_symmetry_planes(lo, lateral);
+                    mb.smooth_symmetry_planes(up, lateral);
+                }
             }
             LateralCondition::Periodic => {
                 mb.periodic(lo, lateral);
                 mb.periodic(up, lateral);
+                if dim == 3 {
+                    mb.smooth_seam(lo, lateral);
+                    mb.smooth_seam(up, lateral);
+                }
             }
         }
     }

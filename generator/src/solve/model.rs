@@ -78,6 +78,16 @@ pub struct ModelBuilder {
     bulk_points: Option<usize>,
     platens: Vec<Platen>,
     contact: Option<ContactInterface>,
+    seams: Vec<(usize, usize, Smoothing)>,
+}
+
+/// Where [`ModelBuilder::smooth_seam`] and [`ModelBuilder::smooth_symmetry_planes`] act.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Smoothing {
+    /// A periodic seam (PR).
+    Seam,
+    /// The two symmetry planes of LN conditions.
+    SymmetryPlanes,
 }
 
 /// Relative tangent regularization of a [`ModelBuilder::sliding_platen`]
@@ -123,6 +133,7 @@ impl ModelBuilder {
             bulk_points: None,
             platens: Vec::new(),
             contact: None,
+            seams: Vec::new(),
         }
     }
 
@@ -235,6 +246,32 @@ impl ModelBuilder {
                 self.ties.push(((a, f), (b, f)));
             }
         }
+    }
+
+    /// Smooths the periodic seam of `body` across `dir` (after
+    /// [`Self::periodic`]): a penalty `½ β ∫ |[[∂u/∂x_dir]]|² dA` on the jump
+    /// of the displacement's normal derivative between the two faces, `β =`
+    /// [`SEAM_PENALTY`]` · E · h` (`h` the element width across the seam),
+    /// and the same on the temperature with `k` for `E`.
+    /// The open basis is only C0 where the cell's faces meet, so the deformed
+    /// surface creases there, while the exact periodic solution is as smooth
+    /// across the seam as anywhere (the term vanishes on it): the penalty
+    /// pulls the discrete displacement towards the C^1 periodic space. A
+    /// crease of the master splits the closest point of a slave point above
+    /// it into two, between which the contact residual jumps.
+    pub fn smooth_seam(&mut self, body: usize, dir: usize) {
+        self.seams.push((body, dir, Smoothing::Seam));
+    }
+
+    /// The LN counterpart of [`Self::smooth_seam`] (after
+    /// [`Self::linear_lateral`]): on both faces across `dir`, a penalty
+    /// `½ (2β) ∫ |∂u_t/∂x_dir|² dA` on the normal derivative of the tangential
+    /// displacements, which vanishes on the exact LN solution (a mirror
+    /// symmetry: `u_n = 0` and no shear give `∂u_t/∂n = 0`). With `2β`, a
+    /// mirror-symmetric cell gives the same discrete problem with PR and LN
+    /// (Fig. 10's symmetric case).
+    pub fn smooth_symmetry_planes(&mut self, body: usize, dir: usize) {
+        self.seams.push((body, dir, Smoothing::SymmetryPlanes));
     }
 
     /// Linear (LN) lateral condition (2.3) on the faces across `dir`: normal
@@ -368,6 +405,11 @@ impl ModelBuilder {
         for &(node, field, f) in &self.point_loads {
             f_mech[node * nf + field] += f;
         }
+        let seams = self
+            .seams
+            .iter()
+            .flat_map(|&(body, dir, kind)| seam_elements(&self.bodies[body], body, dir, kind))
+            .collect();
         let mut model = Model {
             dim: self.dim,
             scales: self.scales,
@@ -396,6 +438,8 @@ impl ModelBuilder {
             eq_class: Vec::new(),
             eq_coords: Vec::new(),
             symmetric_solvers: true,
+            seams,
+            n_seam_elements: 0,
         };
         model.renumber()?;
         Ok(model)
@@ -444,6 +488,86 @@ pub struct Model {
     eq_coords: Vec<[f64; 3]>,
     /// Whether symmetric tangents get Cholesky/LDLᵀ (else always LU).
     symmetric_solvers: bool,
+    /// Seam penalty elements ([`ModelBuilder::smooth_seam`]).
+    seams: Vec<SeamElement>,
+    /// How many of them the assembly holds (none in the thermal phase).
+    n_seam_elements: usize,
+}
+
+/// Relative stiffness of the seam penalty ([`ModelBuilder::smooth_seam`]):
+/// `β = SEAM_PENALTY · E · h`, against the bulk's `E h^(d−2)` per unknown
+/// (the temperature's: `· k` for `E`). Measured (docs/3d.md): 1 already
+/// removes most of the crease, 10 makes every sample of the random-surface
+/// robustness cases converge, 1e3 leaves a round-off floor above the
+/// thermal phase's absolute tolerance.
+pub const SEAM_PENALTY: f64 = 10.0;
+
+/// The penalty points of a seam between one pair of volume elements (or of
+/// a symmetry plane on one element): the functions (of the low element, then
+/// the high one), the penalized displacement components, and at each point
+/// `(β w, s)` with `s` the coefficients of the penalized derivative (seam:
+/// the jump, `−∂R/∂x_dir` low and `+∂R/∂x_dir` high; plane: `∂R/∂x_dir`).
+struct SeamElement {
+    body: usize,
+    conn: Vec<usize>,
+    components: Vec<usize>,
+    points: Vec<(f64, Vec<f64>)>,
+    /// `k / E`: the temperature's penalty relative to the displacement's.
+    thermal_ratio: f64,
+}
+
+/// The [`SeamElement`]s of `body`'s seam (or symmetry planes) across `dir`.
+fn seam_elements(body: &Body, index: usize, dir: usize, kind: Smoothing) -> Vec<SeamElement> {
+    let patch = &body.patch;
+    let dim = patch.param_dim();
+    let n_gauss = patch.knots()[dir].degree() + 1;
+    let beta = |width: f64| SEAM_PENALTY * body.material.youngs_modulus * width;
+    let mut by_pair: std::collections::BTreeMap<(usize, usize), SeamElement> =
+        std::collections::BTreeMap::new();
+    let mut add = |key: (usize, usize), conn: Vec<usize>, components: &[usize], point| {
+        by_pair
+            .entry(key)
+            .or_insert_with(|| SeamElement {
+                body: index,
+                conn,
+                components: components.to_vec(),
+                points: Vec::new(),
+                thermal_ratio: body.material.thermal_conductivity / body.material.youngs_modulus,
+            })
+            .points
+            .push(point);
+    };
+    match kind {
+        Smoothing::Seam => {
+            let all: Vec<usize> = (0..=dim).collect();
+            for sp in patch.seam_points(dir, n_gauss) {
+                let [lo, hi] = &sp.sides;
+                let s = lo
+                    .normal_derivative
+                    .iter()
+                    .map(|d| -d)
+                    .chain(hi.normal_derivative.iter().copied())
+                    .collect();
+                let conn = lo.conn.iter().chain(&hi.conn).copied().collect();
+                let bw = beta(lo.width.min(hi.width)) * sp.weight;
+                add((lo.element, hi.element), conn, &all, (bw, s));
+            }
+        }
+        Smoothing::SymmetryPlanes => {
+            let tangential: Vec<usize> = (0..=dim).filter(|&c| c != dir).collect();
+            for side in [Side::Low, Side::High] {
+                for fe in patch.face_quadrature(dir, side, n_gauss) {
+                    for qp in fe.points {
+                        let at = patch.normal_derivatives(qp.xi, dir);
+                        let bw = 2.0 * beta(at.width) * qp.weight;
+                        let key = (at.element, usize::from(side == Side::High));
+                        add(key, at.conn, &tangential, (bw, at.normal_derivative));
+                    }
+                }
+            }
+        }
+    }
+    by_pair.into_values().collect()
 }
 
 impl Model {
@@ -600,6 +724,12 @@ impl Model {
                 element_eqs.push(self.dofs.element_eqs(&conn, &fields));
             }
         }
+        for sm in &self.seams {
+            let offset = self.bodies[sm.body].node_offset;
+            let conn: Vec<usize> = sm.conn.iter().map(|c| c + offset).collect();
+            element_eqs.push(self.dofs.element_eqs(&conn, &fields));
+        }
+        self.n_seam_elements = self.seams.len();
         if let (Some(c), Some(unknowns)) = (&self.contact, self.contact_unknowns()) {
             for i in 0..c.n_slave() {
                 element_eqs.push(c.element_eqs(i, &self.dofs, self.mult_eq, unknowns));
@@ -884,14 +1014,24 @@ impl Model {
             None
         };
         let n_bulk = self.elements.len();
+        let n_seam = self.n_seam_elements;
         let unknowns = self.contact_unknowns();
         let local = |e: usize, k: Option<&mut [f64]>, r: &mut [f64]| -> Result<()> {
-            if e >= n_bulk {
+            if e >= n_bulk + n_seam {
                 let c = self
                     .contact
                     .as_ref()
                     .expect("contact elements come from an interface");
-                c.element(e - n_bulk, unknowns.expect("contact present"), k, r);
+                c.element(
+                    e - n_bulk - n_seam,
+                    unknowns.expect("contact present"),
+                    k,
+                    r,
+                );
+                return Ok(());
+            }
+            if e >= n_bulk {
+                self.seam_element(&self.seams[e - n_bulk], k, r);
                 return Ok(());
             }
             let (bi, ei) = self.elements[e];
@@ -961,6 +1101,47 @@ impl Model {
                 .find(|&k| pattern.row_idx()[k] == e)
                 .expect("the pattern holds the diagonal");
             values[k] += p.regularization * ratio;
+        }
+    }
+
+    /// Residual and tangent of a seam penalty element: `β w J s` and
+    /// `β w s sᵀ` per penalized field of the phase (the temperature's `β`
+    /// scaled by `k/E`), `J = s·u` the jump of the normal derivative, or the
+    /// derivative (local dofs node-major over the phase's fields).
+    fn seam_element(&self, sm: &SeamElement, mut k: Option<&mut [f64]>, r: &mut [f64]) {
+        let nf = self.dim + 1;
+        let fields: Vec<usize> = match self.coupling {
+            Coupling::Coupled => (0..nf).collect(),
+            Coupling::Mechanical => (0..self.dim).collect(),
+            Coupling::Thermal => vec![self.dim],
+        };
+        let nl = fields.len();
+        let n_local = sm.conn.len() * nl;
+        let offset = self.bodies[sm.body].node_offset;
+        for (pos, &c) in fields.iter().enumerate() {
+            if !sm.components.contains(&c) {
+                continue;
+            }
+            let scale = if c == self.dim { sm.thermal_ratio } else { 1.0 };
+            for (bw, s) in &sm.points {
+                let bw = bw * scale;
+                let jump: f64 = s
+                    .iter()
+                    .zip(&sm.conn)
+                    .map(|(si, &a)| si * self.state[(offset + a) * nf + c])
+                    .sum();
+                for (i, si) in s.iter().enumerate() {
+                    r[i * nl + pos] += bw * jump * si;
+                }
+                if let Some(k) = k.as_deref_mut() {
+                    for (j, sj) in s.iter().enumerate() {
+                        let col = (j * nl + pos) * n_local;
+                        for (i, si) in s.iter().enumerate() {
+                            k[col + i * nl + pos] += bw * si * sj;
+                        }
+                    }
+                }
+            }
         }
     }
 

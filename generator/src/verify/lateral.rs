@@ -177,21 +177,22 @@ impl Cells {
     /// of the meshes), reported only.
     fn tolerances(&self) -> Tolerances {
         match self.dimension {
-            // The free cell's fitted surfaces are not the matched pair's
-            // shifted (fitted at other positions of the meshes, 6 × 6 / 5 × 5
-            // elements per wavelength: fit errors 2 % of the amplitude); the
-            // jumps differ by 1.2e-3 of LN (periodic fits).
+            // PR/LN at 7 μm: 0.976 with the smoothed seams (the thin cell
+            // has little shear to slide by; 0.664 came from the open
+            // basis's C0 seams acting as hinges, docs/3d.md).
             3 => Tolerances {
                 symmetric: 5e-5,
                 offset: 5e-4,
                 matched: f64::INFINITY,
-                matched_over_ln: 2e-3,
+                matched_over_ln: 5e-4,
+                pr_below_ln: 0.99,
             },
             _ => Tolerances {
                 symmetric: 1e-6,
                 offset: 1e-4,
                 matched: 2e-2,
                 matched_over_ln: 1e-4,
+                pr_below_ln: 0.97,
             },
         }
     }
@@ -255,6 +256,8 @@ struct Tolerances {
     matched: f64,
     /// Free top: `|jump − matched|` over the LN jump.
     matched_over_ln: f64,
+    /// Largest PR/LN jump ratio of the mismatched cell (PR below LN).
+    pr_below_ln: f64,
 }
 
 /// Symmetric cells: the LN and PR jumps agree.
@@ -363,14 +366,14 @@ fn mismatched(cells: Cells) -> Result<Vec<Check>> {
     let n = heights.len();
     for i in 0..n {
         let hu = um[i];
-        // PR below LN: the ratio < 0.97.
+        // PR below LN: the ratio < 0.97 (3D: 0.99).
         checks.push(Check::with_error(
             case,
             &format!("H0 = {hu} um: PR/LN jump ratio"),
             pr[i].jump / ln[i].jump,
             1.0,
             pr[i].jump / ln[i].jump,
-            0.97,
+            cells.tolerances().pr_below_ln,
         ));
         if i > 0 {
             // Held top: the PR gap and jump shrink with the height.

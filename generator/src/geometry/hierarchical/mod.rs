@@ -27,4 +27,4 @@ pub mod patch;
 
 pub use basis::{ThbBasis, ThbElement, prolongate};
 pub use mesh::{Cell, HierarchicalMesh};
-pub use patch::ThbPatch;
+pub use patch::{SeamPoint, SeamSide, ThbPatch};

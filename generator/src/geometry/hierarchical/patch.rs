@@ -457,6 +457,55 @@ impl ThbPatch {
         }
     }
 
+    /// The volume element at the parameter point `xi` and the derivatives
+    /// `∂R_a/∂x_dir` (reference configuration) of the functions nonzero there.
+    pub fn normal_derivatives(&self, xi: [f64; 3], dir: usize) -> SeamSide {
+        let dim = self.param_dim();
+        let (mut scratch, mut basis) = (TensorBasis::default(), RationalBasis::default());
+        let e = self.locate(&xi[..dim]);
+        self.element_basis_into(e, &xi[..dim], 1, &mut scratch, &mut basis);
+        let q = bulk_point(dim, xi, 1.0, &basis, &self.points);
+        let el = &self.basis.elements()[e];
+        let mut column = [0.0; 3];
+        for (a, &g) in basis.indices.iter().enumerate() {
+            for (i, c) in column.iter_mut().enumerate() {
+                *c += basis.d1[a][dir] * self.points[g][i];
+            }
+        }
+        let length = column.iter().map(|c| c * c).sum::<f64>().sqrt();
+        SeamSide {
+            element: e,
+            conn: basis.indices,
+            normal_derivative: q.dr_dx.iter().map(|d| d[dir]).collect(),
+            width: length * (el.upper[dir] - el.lower[dir]),
+        }
+    }
+
+    /// The periodic seam across direction `dir` (the faces at its two ends,
+    /// identified by PR conditions): at each Gauss point of the low face
+    /// (`n_gauss` per face direction), [`Self::normal_derivatives`] on either
+    /// side, the low one at the point and the high one at the same face
+    /// parameters; the weight is the low face's (Gauss weight × surface or
+    /// line Jacobian).
+    pub fn seam_points(&self, dir: usize, n_gauss: usize) -> Vec<SeamPoint> {
+        let high_end = self.knots()[dir].last();
+        let mut out = Vec::new();
+        for fe in self.face_quadrature(dir, Side::Low, n_gauss) {
+            for qp in fe.points {
+                let mut high = qp.xi;
+                high[dir] = high_end;
+                out.push(SeamPoint {
+                    weight: qp.weight,
+                    sides: [
+                        self.normal_derivatives(qp.xi, dir),
+                        self.normal_derivatives(high, dir),
+                    ],
+                });
+            }
+        }
+        out
+    }
+
     /// Quadrature over the face where direction `dir` is at its `side` end, per face
     /// element, with `n_gauss` points per face direction (weights with the surface or line
     /// Jacobian, outward unit normals). `conn` holds this patch's indices of the face
@@ -516,4 +565,26 @@ impl ThbPatch {
         }
         out
     }
+}
+
+/// One side of a [`SeamPoint`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct SeamSide {
+    /// The volume element.
+    pub element: usize,
+    /// Patch indices of the functions nonzero there.
+    pub conn: Vec<usize>,
+    /// `∂R_a/∂x_dir`, indexed like `conn`.
+    pub normal_derivative: Vec<f64>,
+    /// The element's width along `dir` (its parametric length times `|∂x/∂ξ_dir|`).
+    pub width: f64,
+}
+
+/// A quadrature point of a periodic seam ([`ThbPatch::seam_points`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SeamPoint {
+    /// Gauss weight × the low face's surface (3D) or line (2D) Jacobian.
+    pub weight: f64,
+    /// The low side (`ξ_dir` at its first knot) and the high side (last knot).
+    pub sides: [SeamSide; 2],
 }
