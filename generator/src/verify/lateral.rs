@@ -177,9 +177,9 @@ impl Cells {
     /// of the meshes), reported only.
     fn tolerances(&self) -> Tolerances {
         match self.dimension {
-            // PR/LN at 7 μm: 0.976 with the smoothed seams (the thin cell
-            // has little shear to slide by; 0.664 came from the open
-            // basis's C0 seams acting as hinges, docs/3d.md).
+            // PR/LN at 7 μm: 0.976 on the default mesh with the smoothed
+            // seams, 0.721 on the long runs' (mesh-bound; 0.664 and 0.795
+            // with C0 seams, docs/3d.md).
             3 => Tolerances {
                 symmetric: 5e-5,
                 offset: 5e-4,
