@@ -271,17 +271,18 @@ fn element_minimum(
         }
     }
     let (lo, hi) = ev.surface.bounds(e);
-    let grid: Vec<[f64; 2]> = (0..9)
-        .map(|k| {
-            let t = [(k % 3) as f64 / 2.0, (k / 3) as f64 / 2.0];
-            [
-                lo[0] + t[0] * (hi[0] - lo[0]),
-                lo[1] + t[1] * (hi[1] - lo[1]),
-            ]
-        })
-        .collect();
-    let starts: Vec<[f64; 2]> = start.into_iter().chain(grid).collect();
-    let (eta, f, _) = element_descent(ev, e, x, &starts);
+    // `start` (if any), then the grid: on the stack (a hot path).
+    let mut starts = [[0.0; 2]; 10];
+    let first = usize::from(start.is_some());
+    starts[0] = start.unwrap_or_default();
+    for k in 0..9 {
+        let t = [(k % 3) as f64 / 2.0, (k / 3) as f64 / 2.0];
+        starts[first + k] = [
+            lo[0] + t[0] * (hi[0] - lo[0]),
+            lo[1] + t[1] * (hi[1] - lo[1]),
+        ];
+    }
+    let (eta, f, _) = element_descent(ev, e, x, &starts[..first + 9]);
     (eta, f)
 }
 

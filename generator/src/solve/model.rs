@@ -439,7 +439,6 @@ impl ModelBuilder {
             eq_coords: Vec::new(),
             symmetric_solvers: true,
             seams,
-            n_seam_elements: 0,
         };
         model.renumber()?;
         Ok(model)
@@ -488,18 +487,17 @@ pub struct Model {
     eq_coords: Vec<[f64; 3]>,
     /// Whether symmetric tangents get Cholesky/LDLᵀ (else always LU).
     symmetric_solvers: bool,
-    /// Seam penalty elements ([`ModelBuilder::smooth_seam`]).
+    /// Seam penalty elements ([`ModelBuilder::smooth_seam`]), assembled
+    /// after the bulk elements and before the contact elements.
     seams: Vec<SeamElement>,
-    /// How many of them the assembly holds (none in the thermal phase).
-    n_seam_elements: usize,
 }
 
 /// Relative stiffness of the seam penalty ([`ModelBuilder::smooth_seam`]):
 /// `β = SEAM_PENALTY · E · h`, against the bulk's `E h^(d−2)` per unknown
-/// (the temperature's: `· k` for `E`). Measured (docs/3d.md): 1 already
-/// removes most of the crease, 10 makes every sample of the random-surface
-/// robustness cases converge, 1e3 leaves a round-off floor above the
-/// thermal phase's absolute tolerance.
+/// (the temperature's: `· k` for `E`). Measured (docs/3d.md): 1 (displacement
+/// only) already moves the results most of the way, 10 makes every sample of
+/// the random-surface robustness cases converge, 1e3 leaves a round-off floor
+/// above the thermal phase's absolute tolerance.
 pub const SEAM_PENALTY: f64 = 10.0;
 
 /// The penalty points of a seam between one pair of volume elements (or of
@@ -708,13 +706,18 @@ impl Model {
         b.patch.control_points()[node - b.node_offset]
     }
 
-    fn rebuild_assembly(&mut self) {
-        let nf = self.dim + 1;
-        let fields: Vec<usize> = match self.coupling {
-            Coupling::Coupled => (0..nf).collect(),
+    /// The fields the current phase solves for (each element's local
+    /// unknowns are node-major over these).
+    fn phase_fields(&self) -> Vec<usize> {
+        match self.coupling {
+            Coupling::Coupled => (0..=self.dim).collect(),
             Coupling::Mechanical => (0..self.dim).collect(),
             Coupling::Thermal => vec![self.dim],
-        };
+        }
+    }
+
+    fn rebuild_assembly(&mut self) {
+        let fields = self.phase_fields();
         self.elements.clear();
         let mut element_eqs = Vec::new();
         for (bi, body) in self.bodies.iter().enumerate() {
@@ -729,7 +732,6 @@ impl Model {
             let conn: Vec<usize> = sm.conn.iter().map(|c| c + offset).collect();
             element_eqs.push(self.dofs.element_eqs(&conn, &fields));
         }
-        self.n_seam_elements = self.seams.len();
         if let (Some(c), Some(unknowns)) = (&self.contact, self.contact_unknowns()) {
             for i in 0..c.n_slave() {
                 element_eqs.push(c.element_eqs(i, &self.dofs, self.mult_eq, unknowns));
@@ -1014,7 +1016,7 @@ impl Model {
             None
         };
         let n_bulk = self.elements.len();
-        let n_seam = self.n_seam_elements;
+        let n_seam = self.seams.len();
         let unknowns = self.contact_unknowns();
         let local = |e: usize, k: Option<&mut [f64]>, r: &mut [f64]| -> Result<()> {
             if e >= n_bulk + n_seam {
@@ -1110,11 +1112,7 @@ impl Model {
     /// derivative (local dofs node-major over the phase's fields).
     fn seam_element(&self, sm: &SeamElement, mut k: Option<&mut [f64]>, r: &mut [f64]) {
         let nf = self.dim + 1;
-        let fields: Vec<usize> = match self.coupling {
-            Coupling::Coupled => (0..nf).collect(),
-            Coupling::Mechanical => (0..self.dim).collect(),
-            Coupling::Thermal => vec![self.dim],
-        };
+        let fields = self.phase_fields();
         let nl = fields.len();
         let n_local = sm.conn.len() * nl;
         let offset = self.bodies[sm.body].node_offset;

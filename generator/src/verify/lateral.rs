@@ -103,8 +103,9 @@ impl Cells {
     /// The phases of the upper surface of the free-top cell: those of
     /// [`Cells::mismatch`] in 2D; in 3D (π/2, π/4), so that the upper body
     /// slides along both axes. (With these phases and the top held, PR
-    /// stalls at 80 % of the load: Newton cycles with period 3 at a residual
-    /// of 1e−7, whatever the mechanical penalty; hence (π/2, 0) there.)
+    /// stalled at 80 % of the load before the seams were smoothed, Newton
+    /// cycling at a projection that jumps; the held-top cases keep
+    /// (π/2, 0).)
     pub fn free_mismatch(&self) -> [f64; 2] {
         match self.dimension {
             3 => [FRAC_PI_2, FRAC_PI_4],
