@@ -41,14 +41,15 @@ fn solve(c: &Case) -> Vec<PointResult> {
 
 /// At 1 kPa (contact 4 % of the width, under one coarse element): the 1 %
 /// target is met, the estimate is within the target, and against a deep
-/// adaptive reference (target 5e-4) the true error is below 1 % and the
+/// adaptive reference (target 1e-4) the true error is below 1 % and the
 /// effectivity index (estimate / true error) within [0.5, 3]. Observed:
-/// 19.005 K ± 0.129 (6 levels, 2388 unknowns) against 18.929 K (10 levels,
-/// 3708 unknowns): true error 0.40 %, effectivity 1.70.
+/// 18.936 K ± 0.015 (6 levels, 2388 unknowns) against 18.926 K (10 levels,
+/// 3708 unknowns): true error 0.054 %, effectivity 1.48 (before the zone's
+/// edges were fitted, stop 20: 19.005 K ± 0.129, true error 0.40 %, 1.70).
 #[test]
 fn sect57_at_one_kpa_meets_one_percent_with_a_faithful_estimate() {
     let r = solve(&case("[1.0e3]", "target_error = 0.01"));
-    let deep = solve(&case("[1.0e3]", "target_error = 5.0e-4\nmax_levels = 12"));
+    let deep = solve(&case("[1.0e3]", "target_error = 1.0e-4\nmax_levels = 12"));
     let (r, deep) = (&r[0], &deep[0]);
     assert!(r.converged && deep.converged);
     assert_eq!(r.error_target_met, Some(true));
@@ -143,10 +144,11 @@ fn the_two_level_estimate_guards_a_lucky_difference() {
 /// 16 × 8 at 5–90 % of `p*`: the contact fraction against `2a/λ` and the
 /// jump against the closed-form strips of Westergaard's width between
 /// layers of the compressed heights (`WavySample::strip_conductance`).
-/// Observed at target 0.01: contact within 0.96 %, jump within 1.18 %; at
-/// 0.003: 0.38 % and 0.63 % (the model's own distance from the closed
-/// forms' assumptions — finite strain, a non-flat surface — is 0.2–0.5 % in
-/// the jump, seen at target 5e-4).
+/// Observed at target 0.01: contact within 0.19 %, jump within 0.40 % (the
+/// issue's 1 % on both; before the zone's edges were fitted, stop 20:
+/// 0.96 % and 1.18 %); at 0.003: 0.25 % and 0.52 % (the model's own
+/// distance from the closed forms' assumptions — finite strain, a non-flat
+/// surface — is 0.2–0.5 % in the jump).
 #[test]
 fn westergaard_adaptive_meets_the_closed_forms() {
     use tcgen::analytical::westergaard::contact_half_width;
@@ -160,7 +162,7 @@ fn westergaard_adaptive_meets_the_closed_forms() {
         .iter()
         .map(|f| format!("{:e}", f * p_star))
         .collect();
-    for (target, tol_contact, tol_jump) in [(0.01, 0.01, 0.015), (0.003, 0.005, 0.01)] {
+    for (target, tol_contact, tol_jump) in [(0.01, 0.01, 0.01), (0.003, 0.005, 0.01)] {
         let text = format!(
             r#"
 [sample]

@@ -176,7 +176,8 @@ fn long_hertz_3d() {
 /// Westergaard and the strips on 128 and 256 elements: the raw contact
 /// fraction on 256 elements within 2 % of Westergaard's from 5 % to 90 % of
 /// `p*` (spec §10.4), its Richardson extrapolation from 128/256 and the
-/// observed first order, and the strip constriction (`TCGEN_LONG_TESTS=1`).
+/// observed order (3/2: 1.39; raw within 0.15 %), and the strip constriction
+/// (`TCGEN_LONG_TESTS=1`).
 #[test]
 fn long_westergaard_richardson() {
     if !long() {
@@ -194,6 +195,7 @@ fn long_westergaard_richardson() {
         "westergaard_richardson_128_256",
         &coarse,
         &fine,
+        1.5,
         0.02,
     ));
     checks.extend(westergaard_checks("westergaard_256", &s256, &fine, 0.75));
@@ -201,10 +203,12 @@ fn long_westergaard_richardson() {
         "constriction_256",
         &s256,
         &fine,
-        // The strips against Westergaard's width carry the mechanical edge
-        // error (0.56–0.67 elements on 256) and the thermal one (0.04–0.26):
-        // observed 0.37–0.91.
-        (0.3, 1.0),
+        // The strips against the zone: the thermal error at the edges,
+        // observed 0.02–0.37 elements on 256 (0.04–0.26 before stop 21);
+        // against Westergaard's width with the mechanical edge error
+        // (0.01–0.16 elements; 0.56–0.67 before): observed 0.08–0.35
+        // (0.37–0.91 before).
+        (0.4, 1.0),
     ));
     assert_pass(&checks);
 }

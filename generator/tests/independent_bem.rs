@@ -7,8 +7,9 @@
 //! `random_profile_tamaas.csv`): contact fraction, mean gap, and the
 //! conductance `|h̄|/jump` against Barber's analogy `(k/E*) K` with the
 //! boundary-element stiffness `K = −dp̄/dḡ`. Observed: contact fraction
-//! within 1.3 %, mean gap within 0.04 %, conductance within 1.6 % at
-//! 100 Pa–3 kPa (contact 6–64 %).
+//! within 0.39 %, mean gap within 0.04 %, conductance within 1.1 % at
+//! 100 Pa–3 kPa (contact 6–64 %; with the zone's edges at the indicator's
+//! crossings, before stop 21: 1.3 % and 1.6 %).
 
 use std::path::Path;
 
@@ -58,7 +59,7 @@ fn random_profile_matches_the_boundary_element_reference() {
             100.0 * e_c,
             r.dofs
         );
-        assert!(e_cf.abs() <= 0.02, "contact fraction at {p} Pa: {e_cf}");
+        assert!(e_cf.abs() <= 0.01, "contact fraction at {p} Pa: {e_cf}");
         assert!(e_gap.abs() <= 0.005, "mean gap at {p} Pa: {e_gap}");
         assert!(e_c.abs() <= 0.025, "conductance at {p} Pa: {e_c}");
     }

@@ -135,6 +135,11 @@ pub struct ContactInterface {
     normal_sign: f64,
     /// Mechanical penalty εN (scaled).
     pub eps_n: f64,
+    /// Contact modulus `E*` of the two bodies (scaled; `1/E* = Σ (1 − ν²)/E`
+    /// at the reference state), for the contact edges of the zone
+    /// ([`ContactInterface::locate_edge`]); `None`: the indicator's
+    /// crossings.
+    pub e_star: Option<f64>,
     /// Thermal penalty εθ (scaled).
     pub eps_t: f64,
     /// Current point states.
@@ -240,12 +245,24 @@ pub struct ContactZone {
     pub mean_gap: f64,
     /// The lumped areas `⟨N^I⟩` over the whole surface (4.8).
     pub surface_area: Vec<f64>,
+    /// Every edge located by the near-edge asymptotics
+    /// ([`ContactInterface::locate_edge`]), none at the indicator's crossing.
+    pub edges_fitted: bool,
 }
 
 /// Zero crossings of the pressure indicator are sought between this many
 /// samples per slave element (more than the ≤ p roots a degree-p element
 /// polynomial can have close together).
 const ZONE_SAMPLES: usize = 16;
+
+/// Gauss points per element in the means of the contact edge's asymptotics
+/// ([`ContactInterface::locate_edge`]).
+const EDGE_POINTS: usize = 24;
+
+/// Elements that the ranges in and out of contact on both sides of an edge
+/// must span for the edge to be fitted to the asymptotics
+/// ([`ContactInterface::locate_edge`]).
+const EDGE_MIN_RANGE: f64 = 4.0;
 
 /// Unknowns per node in 3D: `(ux, uy, uz, θ)`.
 const NF_3D: usize = 4;
@@ -411,6 +428,7 @@ impl ContactInterface {
             period,
             normal_sign,
             eps_n,
+            e_star: None,
             eps_t,
             state: Vec::new(),
             lambda_n: vec![0.0; n_s],
@@ -998,14 +1016,31 @@ impl ContactInterface {
         }
     }
 
-    /// The pressure indicator `λN^I − εN g^I` of slave node `i`: the contact
-    /// pressure where positive, `−εN` times the weighted gap otherwise
-    /// (frozen in the thermal phase).
+    /// The pressure indicator of slave node `i`: the contact pressure
+    /// `λN^I − εN g^I` where positive, `−εc g^I` otherwise (frozen in the
+    /// thermal phase), with the augmentation of the default factor
+    /// `εc = E/h` ([`ContactInterface::zone_augmentation`]) whatever
+    /// `mechanical_penalty` is: the contact zone's edges, interpolated from
+    /// it, then do not depend on the factor, as the mechanical solution does
+    /// not.
     pub fn indicator(&self, i: usize) -> f64 {
         match &self.frozen {
             Some((p, _)) => p[i],
-            None => self.lambda_n[i] - self.eps_n * self.weighted_gap(i),
+            None => {
+                let v = self.lambda_n[i] - self.eps_n * self.weighted_gap(i);
+                if v > 0.0 {
+                    v
+                } else {
+                    v * self.zone_augmentation() / self.eps_n
+                }
+            }
         }
+    }
+
+    /// `εc`, the augmentation of the indicator out of contact
+    /// ([`ContactInterface::indicator`]): `εN` at `mechanical_penalty = 1`.
+    fn zone_augmentation(&self) -> f64 {
+        self.eps_n / self.settings.mechanical_penalty.unwrap_or(1.0)
     }
 
     /// `⟨N^I⟩` over the whole slave surface (4.8), also while the thermal
@@ -1145,7 +1180,8 @@ impl ContactInterface {
 
     /// The contact zone where the indicator interpolated from the nodal
     /// values `ind` is positive, in the configuration `state` (its mean gap
-    /// and surface areas left empty).
+    /// and surface areas left empty), each edge moved to the contact edge of
+    /// the near-edge asymptotics ([`ContactInterface::locate_edge`]).
     fn contact_zone(&self, ind: &[f64], state: &[f64]) -> ContactZone {
         let face = &*self.slave_face;
         let (mut scratch, mut basis) = (TensorBasis::default(), RationalBasis::default());
@@ -1158,12 +1194,16 @@ impl ContactInterface {
                 .map(|(&c, &n)| n * ind[c])
                 .sum()
         };
-        let mut zone = ContactZone::default();
+        // Zero crossings `(element, ξ)` of the interpolated indicator,
+        // between samples by bisection, in increasing ξ.
+        let mut crossings: Vec<(usize, f64)> = Vec::new();
+        let mut start_inside = false;
         for (e, el) in face.elements().iter().enumerate() {
             let (a, b) = (el.lower[0], el.upper[0]);
-            // Zero crossings between samples, by bisection.
-            let mut cuts = vec![a];
             let mut left = (a, eval(e, a));
+            if a == 0.0 {
+                start_inside = left.1 > 0.0;
+            }
             for k in 1..=ZONE_SAMPLES {
                 let xi = a + (b - a) * k as f64 / ZONE_SAMPLES as f64;
                 let right = (xi, eval(e, xi));
@@ -1182,24 +1222,278 @@ impl ContactInterface {
                             hi = m;
                         }
                     }
-                    cuts.push(0.5 * (lo + hi));
+                    crossings.push((e, 0.5 * (lo + hi)));
                 }
                 left = right;
             }
-            cuts.push(b);
-            for w in cuts.windows(2) {
-                if w[1] - w[0] <= (b - a) * 1e-13 || eval(e, 0.5 * (w[0] + w[1])) <= 0.0 {
+        }
+        crossings.sort_by(|a, b| a.1.total_cmp(&b.1));
+        let found: Vec<f64> = crossings.iter().map(|c| c.1).collect();
+        // The ranges in contact alternate with those out of contact.
+        let inside_before = |k: usize| start_inside != (k % 2 == 1);
+        // Widths (ξ) of the ranges before and after each crossing, across
+        // the ends (periodic faces; elsewhere a safe overestimate).
+        let n = found.len();
+        let width = |k: usize, after: bool| -> f64 {
+            match (after, k) {
+                (true, k) if k + 1 < n => found[k + 1] - found[k],
+                (true, _) => found[0] + 1.0 - found[k],
+                (false, 0) => found[0] + 1.0 - found[n - 1],
+                (false, k) => found[k] - found[k - 1],
+            }
+        };
+        let located: Vec<Option<f64>> = crossings
+            .iter()
+            .enumerate()
+            .map(|(k, &(e, xi))| {
+                let (before, after) = (width(k, false), width(k, true));
+                let below = inside_before(k);
+                let (inside, outside) = if below {
+                    (before, after)
+                } else {
+                    (after, before)
+                };
+                self.locate_edge(ind, state, e, xi, below, [inside, outside])
+            })
+            .collect();
+        let mut fitted = located.iter().all(Option::is_some);
+        let mut edges: Vec<f64> = located
+            .iter()
+            .zip(&found)
+            .map(|(l, &f)| l.unwrap_or(f))
+            .collect();
+        // Moved edges keep their order (a spot or gap narrower than the
+        // asymptotics' reach keeps the interpolated edges).
+        if edges.windows(2).any(|w| w[1] <= w[0]) {
+            edges = found;
+            fitted = false;
+        }
+        let mut bounds = vec![0.0];
+        bounds.extend(&edges);
+        bounds.push(1.0);
+        let mut zone = ContactZone::default();
+        for (e, el) in face.elements().iter().enumerate() {
+            let (a, b) = (el.lower[0], el.upper[0]);
+            for (k, w) in bounds.windows(2).enumerate() {
+                if start_inside != (k % 2 == 0) {
                     continue;
                 }
-                // Merge with the previous interval where they meet.
-                match zone.intervals.last_mut() {
-                    Some(last) if last.0 == e && last.2 == w[0] => last.2 = w[1],
-                    _ => zone.intervals.push((e, w[0], w[1])),
+                let (lo, hi) = (w[0].max(a), w[1].min(b));
+                if hi - lo > (b - a) * 1e-13 {
+                    zone.intervals.push((e, lo, hi));
                 }
             }
         }
+        zone.intervals
+            .sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
         zone.projected_length = self.projected_length(&zone.intervals, state);
+        zone.edges_fitted = fitted;
         zone
+    }
+
+    /// Whether the thermal phase integrates over a contact zone whose every
+    /// edge is fitted to the near-edge asymptotics
+    /// ([`ContactInterface::locate_edge`]) in the configuration `state`: the
+    /// regime in which the jump's error is that of the fitted edges (2D
+    /// constraint models with `thermal_zone`; no edges counts as fitted).
+    pub fn zone_edges_fitted(&self, state: &[f64]) -> bool {
+        let constraint = matches!(self.settings.thermal, ThermalContact::Constraint { .. });
+        if self.dim == 3 || !self.settings.thermal_zone || !constraint {
+            return false;
+        }
+        let ind: Vec<f64> = (0..self.n_slave()).map(|i| self.indicator(i)).collect();
+        self.contact_zone(&ind, state).edges_fitted
+    }
+
+    /// The contact edge near a zero crossing `ξc` (in slave face element
+    /// `e`) of the interpolated indicator, from the near-edge asymptotics of
+    /// frictionless elastic contact: pressure `A √s` at a distance `s`
+    /// inside, gap `(4A/3E*) t^(3/2)` at a distance `t` outside (the edge of
+    /// a Hertzian or Westergaard contact), with `s`, `t` replaced by
+    /// `s (1 − s/L)`, `L` the length of the range in or out of contact
+    /// (`widths`, in ξ; exact for a Hertzian spot and for the gaps of nearly
+    /// full contact). The lumped pressures `λN^I` of the in-contact nodes and
+    /// the weighted gaps `g^J` (4.8) of the others are these fields weighted
+    /// by their basis functions over their supports; the edge and `A` are
+    /// fitted to the nodes whose supports meet the elements within one
+    /// element of `ξc` (least squares on `λN^I` and `3E* g^J/(4h)`; distances
+    /// are chords of the deformed slave curve), the edge kept on the supports
+    /// of the in-contact nodes. The crossing itself lies where the
+    /// indicator's augmentation puts it, a fraction of an element inside or
+    /// outside the edge. `None` (keep the crossing) without `E*`, without
+    /// nodes on both sides, or where a range spans fewer than
+    /// [`EDGE_MIN_RANGE`] elements. 2D (slave curves).
+    fn locate_edge(
+        &self,
+        ind: &[f64],
+        state: &[f64],
+        e: usize,
+        xi_c: f64,
+        inside_below: bool,
+        widths: [f64; 2],
+    ) -> Option<f64> {
+        let e_star = self.e_star?;
+        let face = &*self.slave_face;
+        let elements = face.elements();
+        let h = elements[e].upper[0] - elements[e].lower[0];
+        // The asymptotics hold a few elements from the other edge of the
+        // range only: narrower spots and gaps keep the indicator's crossing.
+        if widths[0].min(widths[1]) < EDGE_MIN_RANGE * h {
+            return None;
+        }
+        let near = |k: usize| {
+            elements[k].upper[0] > xi_c - (1.0 + 1e-6) * h
+                && elements[k].lower[0] < xi_c + (1.0 + 1e-6) * h
+        };
+        let nodes: BTreeSet<usize> = (0..elements.len())
+            .filter(|&k| near(k))
+            .flat_map(|k| elements[k].functions.iter().copied())
+            .collect();
+        if !nodes.iter().any(|&c| ind[c] > 0.0) || nodes.iter().all(|&c| ind[c] > 0.0) {
+            return None;
+        }
+        let (mut scratch, mut basis) = (TensorBasis::default(), RationalBasis::default());
+        let current =
+            |c: usize, d: usize| self.slave_ref[c][d] + state[self.slave_nodes[c] * 3 + d];
+        let rule = GaussLegendre::new(EDGE_POINTS);
+        // Quadrature of the nodes' supports: (ξ, x, weight·|x'|, N^c of each node).
+        let support: BTreeSet<usize> = (0..elements.len())
+            .filter(|&k| elements[k].functions.iter().any(|c| nodes.contains(c)))
+            .collect();
+        let index: Vec<usize> = nodes.iter().copied().collect();
+        let mut points: Vec<(f64, [f64; 2], f64, Vec<f64>)> = Vec::new();
+        let mut length_e = 0.0;
+        for &k in &support {
+            let (a, b) = (elements[k].lower[0], elements[k].upper[0]);
+            for (&t, &w) in rule.points.iter().zip(&rule.weights) {
+                let xi = 0.5 * (a + b) + 0.5 * (b - a) * t;
+                face.element_basis_into(k, &[xi], 1, &mut scratch, &mut basis);
+                let (mut x, mut dx) = ([0.0; 2], [0.0; 2]);
+                let mut n = vec![0.0; index.len()];
+                for (q, &c) in basis.indices.iter().enumerate() {
+                    for d in 0..2 {
+                        x[d] += basis.values[q] * current(c, d);
+                        dx[d] += basis.d1[q][0] * current(c, d);
+                    }
+                    if let Ok(m) = index.binary_search(&c) {
+                        n[m] = basis.values[q];
+                    }
+                }
+                let weight = 0.5 * (b - a) * w * dx[0].hypot(dx[1]);
+                if k == e {
+                    length_e += weight;
+                }
+                points.push((xi, x, weight, n));
+            }
+        }
+        let area: Vec<f64> = (0..index.len())
+            .map(|m| points.iter().map(|p| p.2 * p.3[m]).sum())
+            .collect();
+        // Data: λN^I inside, 3E* g^J/(4h) outside (g^J = −indicator/εc).
+        let data: Vec<f64> = index
+            .iter()
+            .map(|&c| {
+                if ind[c] > 0.0 {
+                    ind[c]
+                } else {
+                    -3.0 * e_star * ind[c] / (self.zone_augmentation() * 4.0 * length_e)
+                }
+            })
+            .collect();
+        let at = |xi: f64| -> Option<[f64; 2]> {
+            let k = (0..elements.len())
+                .find(|&k| elements[k].lower[0] <= xi && xi <= elements[k].upper[0])?;
+            let (mut scratch, mut basis) = (TensorBasis::default(), RationalBasis::default());
+            face.element_basis_into(k, &[xi], 0, &mut scratch, &mut basis);
+            let mut x = [0.0; 2];
+            for (q, &c) in basis.indices.iter().enumerate() {
+                for (d, v) in x.iter_mut().enumerate() {
+                    *v += basis.values[q] * current(c, d);
+                }
+            }
+            Some(x)
+        };
+        // Lengths of the ranges in contact and out of contact (ξ widths in
+        // the edge element's length per ξ).
+        let widths_len = widths.map(|w| w * length_e / h);
+        // Squared misfit of the best amplitude for an edge at ξa (the fixed
+        // quadrature smears the kink at ξa over a point spacing; the fields
+        // vanish at the edge, so the misfit is continuous in ξa).
+        let misfit = |xa: f64| -> Option<f64> {
+            let p = at(xa)?;
+            let mut model = vec![0.0; index.len()];
+            for (xi, x, w, n) in &points {
+                let d = (x[0] - p[0]).hypot(x[1] - p[1]);
+                let inside = (*xi < xa) == inside_below;
+                // The range's finite width: d (1 − d/L) (exact for Hertz
+                // and for the gaps of nearly full contact).
+                let d = d * (1.0 - d / if inside { widths_len[0] } else { widths_len[1] }).max(0.0);
+                for (m, &c) in index.iter().enumerate() {
+                    if n[m] == 0.0 || (ind[c] > 0.0) != inside {
+                        continue;
+                    }
+                    model[m] += w
+                        * n[m]
+                        * if inside {
+                            d.sqrt()
+                        } else {
+                            d.powf(1.5) / length_e
+                        };
+                }
+            }
+            model.iter_mut().zip(&area).for_each(|(v, a)| *v /= a);
+            let mm: f64 = model.iter().map(|v| v * v).sum();
+            if mm <= 0.0 {
+                return None;
+            }
+            let amp = model.iter().zip(&data).map(|(v, d)| v * d).sum::<f64>() / mm;
+            Some(
+                model
+                    .iter()
+                    .zip(&data)
+                    .map(|(v, d)| (d - amp * v).powi(2))
+                    .sum(),
+            )
+        };
+        // The zone stays on the supports of the in-contact nodes (beyond
+        // them its test functions would have no in-contact heir).
+        let reach = |c: usize| {
+            let ks = (0..elements.len()).filter(|&k| elements[k].functions.contains(&c));
+            if inside_below {
+                ks.map(|k| elements[k].upper[0]).fold(f64::MIN, f64::max)
+            } else {
+                ks.map(|k| elements[k].lower[0]).fold(f64::MAX, f64::min)
+            }
+        };
+        let in_contact = index.iter().copied().filter(|&c| ind[c] > 0.0);
+        let (mut lo, mut hi) = ((xi_c - 1.5 * h).max(0.0), (xi_c + 1.5 * h).min(1.0));
+        if inside_below {
+            hi = hi.min(in_contact.map(reach).fold(f64::MIN, f64::max));
+        } else {
+            lo = lo.max(in_contact.map(reach).fold(f64::MAX, f64::min));
+        }
+        if hi <= lo {
+            return None;
+        }
+        let n = 96;
+        let grid: Vec<(f64, f64)> = (0..=n)
+            .map(|k| lo + (hi - lo) * k as f64 / n as f64)
+            .filter_map(|x| misfit(x).map(|m| (x, m)))
+            .collect();
+        let best = grid.iter().min_by(|a, b| a.1.total_cmp(&b.1))?;
+        // Golden section about the best sample.
+        let step = (hi - lo) / n as f64;
+        let (mut a, mut b) = ((best.0 - step).max(lo), (best.0 + step).min(hi));
+        let g = 0.5 * (5f64.sqrt() - 1.0);
+        for _ in 0..40 {
+            let (x1, x2) = (b - g * (b - a), a + g * (b - a));
+            if misfit(x1).unwrap_or(f64::MAX) < misfit(x2).unwrap_or(f64::MAX) {
+                b = x2;
+            } else {
+                a = x1;
+            }
+        }
+        Some(0.5 * (a + b))
     }
 
     /// Length (scaled) of slave face intervals projected on x in the

@@ -148,12 +148,18 @@ impl ModelBuilder {
     ) -> Result<()> {
         let scaled = settings.scaled(&self.scales);
         let (s, m) = (&self.bodies[slave.0], &self.bodies[master.0]);
-        self.contact = Some(ContactInterface::new(
+        let mut interface = ContactInterface::new(
             (&s.patch, s.node_offset, slave.1, slave.2),
             (&m.patch, m.node_offset, master.1, master.2),
             scaled,
             period.map(|w| self.scales.len(w)),
-        )?);
+        )?;
+        let compliance: f64 = [&s.material, &m.material]
+            .iter()
+            .map(|b| (1.0 - b.poisson_ratio.powi(2)) / b.youngs_modulus)
+            .sum();
+        interface.e_star = Some(1.0 / compliance);
+        self.contact = Some(interface);
         Ok(())
     }
 
