@@ -137,7 +137,7 @@ pub struct ContactInterface {
     pub eps_n: f64,
     /// Contact modulus `E*` of the two bodies (scaled; `1/E* = Σ (1 − ν²)/E`
     /// at the reference state), for the contact edges of the zone
-    /// ([`ContactInterface::locate_edge`]); `None`: the indicator's
+    /// (`ContactInterface::locate_edge`); `None`: the indicator's
     /// crossings.
     pub e_star: Option<f64>,
     /// Thermal penalty εθ (scaled).
@@ -246,7 +246,7 @@ pub struct ContactZone {
     /// The lumped areas `⟨N^I⟩` over the whole surface (4.8).
     pub surface_area: Vec<f64>,
     /// Every edge located by the near-edge asymptotics
-    /// ([`ContactInterface::locate_edge`]), none at the indicator's crossing.
+    /// (`ContactInterface::locate_edge`), none at the indicator's crossing.
     pub edges_fitted: bool,
 }
 
@@ -1019,7 +1019,7 @@ impl ContactInterface {
     /// The pressure indicator of slave node `i`: the contact pressure
     /// `λN^I − εN g^I` where positive, `−εc g^I` otherwise (frozen in the
     /// thermal phase), with the augmentation of the default factor
-    /// `εc = E/h` ([`ContactInterface::zone_augmentation`]) whatever
+    /// `εc = E/h` (`ContactInterface::zone_augmentation`) whatever
     /// `mechanical_penalty` is: the contact zone's edges, interpolated from
     /// it, then do not depend on the factor, as the mechanical solution does
     /// not.
@@ -1293,7 +1293,7 @@ impl ContactInterface {
 
     /// Whether the thermal phase integrates over a contact zone whose every
     /// edge is fitted to the near-edge asymptotics
-    /// ([`ContactInterface::locate_edge`]) in the configuration `state`: the
+    /// (`ContactInterface::locate_edge`) in the configuration `state`: the
     /// regime in which the jump's error is that of the fitted edges (2D
     /// constraint models with `thermal_zone`; no edges counts as fitted).
     pub fn zone_edges_fitted(&self, state: &[f64]) -> bool {
@@ -1520,7 +1520,7 @@ impl ContactInterface {
     /// projected on the mean plane and scaled, in the configuration `state`:
     /// the frozen zone in the thermal phase, else the zone of the current
     /// indicator. In 3D the indicator interpolated from the slave control
-    /// points is sampled at the midpoints of [`AREA_SAMPLES`]² sub-cells of
+    /// points is sampled at the midpoints of `AREA_SAMPLES`² sub-cells of
     /// every slave element (the frozen indicator in the thermal phase).
     pub fn contact_length(&self, state: &[f64]) -> f64 {
         if self.dim == 3 {

@@ -218,7 +218,7 @@ impl NurbsPatch {
     }
 
     /// Quadrature over the face where direction `dir` is at its `side` end, per face element,
-    /// with `n_gauss` points per face direction (see [`face_point`] for weights and normals).
+    /// with `n_gauss` points per face direction (see `face_point` for weights and normals).
     /// `r` holds the face basis functions, indexed like `conn`.
     #[track_caller]
     pub fn face_quadrature(

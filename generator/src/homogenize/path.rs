@@ -414,7 +414,7 @@ impl<'a> PathSolver<'a> {
     /// Two-phase (self-consistent) jumps at one pressure for several fluxes
     /// (W/m², > 0), on the case's mesh, or adaptively refined from it until
     /// the estimated error of every flux's jump meets
-    /// `[discretization] target_error` ([`PathSolver::adapt`]).
+    /// `[discretization] target_error` (`PathSolver::adapt`).
     pub fn solve_pressure_fluxes(
         &mut self,
         pressure: f64,

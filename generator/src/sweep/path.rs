@@ -1,6 +1,6 @@
 //! The paths of a sweep: one sample, flux and contact temperature, all
 //! pressures in increasing order by continuation through
-//! [`PathSolver`](crate::homogenize::path::PathSolver); the fluxes of one
+//! [`crate::homogenize::path::PathSolver`]; the fluxes of one
 //! sample and contact temperature share one solver ([`solve_flux_group`]).
 //!
 //! With `[sweep] continuation = false` every pressure is solved from zero

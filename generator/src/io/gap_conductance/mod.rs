@@ -49,7 +49,7 @@ use crate::{Error, Result};
 /// returned a pressure as conductance in our runs).
 pub const CALCULIX_MAX_PRESSURE_ROWS: usize = 20;
 
-/// Offset of the Celsius scale, θ[°C] = θ[K] − 273.15.
+/// Offset of the Celsius scale, `θ[°C] = θ[K] − 273.15`.
 pub const CELSIUS_OFFSET: f64 = 273.15;
 
 /// Samples per interval when measuring the deviation of a chord from the law.

@@ -17,7 +17,7 @@ pub struct GapConductanceOptions {
     /// Largest relative deviation of the solver's piecewise-linear
     /// interpolation from the law (`--tolerance`).
     pub tolerance: f64,
-    /// Pressures [Pa] the rows must span (`--pressure-range LO:HI`); default:
+    /// Pressures (Pa) the rows must span (`--pressure-range LO:HI`); default:
     /// the table's. Beyond the table only under a pressure extrapolation policy.
     pub pressure_range: Option<[f64; 2]>,
 }
@@ -35,7 +35,7 @@ impl Default for GapConductanceOptions {
     }
 }
 
-/// Parses `--pressure-range LO:HI` [Pa].
+/// Parses `--pressure-range LO:HI` (Pa).
 pub fn parse_pressure_range(s: &str) -> Result<[f64; 2]> {
     let bad = || {
         Error::invalid(

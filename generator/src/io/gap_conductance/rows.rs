@@ -23,9 +23,9 @@ pub struct GapConductanceRows {
     pub flux: f64,
     /// How the flux relates to the table.
     pub flux_source: FluxSource,
-    /// Contact pressures [Pa], ascending, the same at every temperature.
+    /// Contact pressures (Pa), ascending, the same at every temperature.
     pub pressures: Vec<f64>,
-    /// Contact temperatures [K], ascending (the table's and inserted ones).
+    /// Contact temperatures (K), ascending (the table's and inserted ones).
     pub temperatures: Vec<f64>,
     /// Conductance [W/(m²·K)], `[temperature][pressure]` row-major.
     pub conductance: Vec<f64>,

@@ -166,7 +166,7 @@ impl EggBoxSample {
 }
 
 /// The catalogue's checks on `rows` (`name` the case), with the tolerances
-/// measured on the default sample (see [`egg_box_default`]).
+/// measured on the default sample (see [`crate::verify::contact::egg_box_default`]).
 pub fn egg_box_checks(name: &str, rows: &[EggBoxRow], tol: EggBoxTolerances) -> Vec<Check> {
     let mut v = Vec::new();
     for r in rows {
