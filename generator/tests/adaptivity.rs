@@ -10,6 +10,9 @@ use tcgen::homogenize::path::{PathSolver, PointResult, two_level_estimate};
 use tcgen::sample::Case;
 use tcgen::solve::NonlinearProblem;
 
+#[path = "common/westergaard_case.rs"]
+mod westergaard;
+
 fn case(pressures: &str, adaptive: &str) -> Case {
     let text = format!(
         r#"
@@ -152,49 +155,17 @@ fn the_two_level_estimate_guards_a_lucky_difference() {
 #[test]
 fn westergaard_adaptive_meets_the_closed_forms() {
     use tcgen::analytical::westergaard::contact_half_width;
-    use tcgen::verify::contact::wavy::{WESTERGAARD_LEVELS, WavySample};
-    let s = WavySample {
-        amplitude: 5.0e-9,
-        ..WavySample::default()
-    };
+    use tcgen::verify::contact::wavy::WESTERGAARD_LEVELS;
+    let s = westergaard::sample();
     let p_star = s.p_star();
-    let pressures: Vec<String> = WESTERGAARD_LEVELS
-        .iter()
-        .map(|f| format!("{:e}", f * p_star))
-        .collect();
     for (target, tol_contact, tol_jump) in [(0.01, 0.01, 0.01), (0.003, 0.005, 0.01)] {
-        let text = format!(
-            r#"
-[sample]
-width = {w:e}
-height = {h:e}
-lateral = "periodic"
-[surface.upper]
-kind = "sinusoid"
-rms = {rms:e}
-wavelength = {w:e}
-[surface.lower]
-kind = "flat"
-[material]
-conductivity_slope = 0.0
-[discretization]
-degree = 2
-elements_upper = [16, 8]
-elements_lower = [14, 7]
-target_error = {target:e}
-[homogenization]
-method = "two-phase"
-[load]
-flux = {flux:e}
-pressures = [{p}]
-"#,
-            w = s.wavelength,
-            h = s.height,
-            rms = s.amplitude / 2f64.sqrt(),
-            flux = s.flux,
-            p = pressures.join(", "),
+        let c = westergaard::case(
+            &WESTERGAARD_LEVELS,
+            [16, 8],
+            [14, 7],
+            &format!("target_error = {target:e}"),
+            "",
         );
-        let c = Case::from_toml(&text, Path::new(".")).unwrap();
         let (mut worst_cf, mut worst_jump) = (0.0f64, 0.0f64);
         for r in solve(&c) {
             assert!(

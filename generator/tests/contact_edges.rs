@@ -5,64 +5,22 @@
 //! Westergaard's wavy contact in the small-strain limit (`A/λ = 5e-4`,
 //! `H = λ`, PR, constant conductivity, plain two-phase), fixed meshes.
 
-use std::path::Path;
-
 use tcgen::analytical::westergaard::contact_half_width;
 use tcgen::homogenize::path::PointResult;
-use tcgen::sample::Case;
-use tcgen::verify::contact::wavy::WavySample;
 
-fn sample() -> WavySample {
-    WavySample {
-        amplitude: 5.0e-9,
-        ..WavySample::default()
-    }
-}
+#[path = "common/westergaard_case.rs"]
+mod westergaard;
 
 /// The Westergaard case on `nx` slave elements (the master 7/8 of them),
 /// at the fractions `levels` of `p*`, with the augmentation factor `factor`.
 fn solve(nx: usize, levels: &[f64], factor: f64) -> Vec<PointResult> {
-    let s = sample();
-    let pressures: Vec<String> = levels
-        .iter()
-        .map(|f| format!("{:e}", f * s.p_star()))
-        .collect();
-    let text = format!(
-        r#"
-[sample]
-width = {w:e}
-height = {h:e}
-lateral = "periodic"
-[surface.upper]
-kind = "sinusoid"
-rms = {rms:e}
-wavelength = {w:e}
-[surface.lower]
-kind = "flat"
-[material]
-conductivity_slope = 0.0
-[discretization]
-degree = 2
-elements_upper = [{nx}, {ny}]
-elements_lower = [{nl}, {nyl}]
-[contact]
-mechanical_penalty = {factor:e}
-[homogenization]
-method = "two-phase"
-[load]
-flux = {flux:e}
-pressures = [{p}]
-"#,
-        w = s.wavelength,
-        h = s.height,
-        rms = s.amplitude / 2f64.sqrt(),
-        flux = s.flux,
-        p = pressures.join(", "),
-        ny = nx / 2,
-        nl = nx * 7 / 8,
-        nyl = nx * 7 / 16,
+    let c = westergaard::case(
+        levels,
+        [nx, nx / 2],
+        [nx * 7 / 8, nx * 7 / 16],
+        "",
+        &format!("mechanical_penalty = {factor:e}"),
     );
-    let c = Case::from_toml(&text, Path::new(".")).unwrap();
     let r = tcgen::homogenize::solve_case(&c, None, |_| {}).unwrap();
     assert!(r.iter().all(|r| r.converged));
     r
@@ -92,7 +50,7 @@ fn the_zone_does_not_depend_on_the_augmentation() {
 /// inside on 64).
 #[test]
 fn the_edges_lie_close_to_westergaards() {
-    let s = sample();
+    let s = westergaard::sample();
     let levels = [0.1, 0.35, 0.7];
     for nx in [32, 64] {
         for r in solve(nx, &levels, 1.0) {

@@ -1293,13 +1293,18 @@ impl ContactInterface {
 
     /// Whether the thermal phase integrates over a contact zone whose every
     /// edge is fitted to the near-edge asymptotics
-    /// (`ContactInterface::locate_edge`) in the configuration `state`: the
+    /// (`ContactInterface::locate_edge`) in the configuration `state` (the
+    /// frozen zone's, in the thermal phase): the
     /// regime in which the jump's error is that of the fitted edges (2D
     /// constraint models with `thermal_zone`; no edges counts as fitted).
     pub fn zone_edges_fitted(&self, state: &[f64]) -> bool {
         let constraint = matches!(self.settings.thermal, ThermalContact::Constraint { .. });
         if self.dim == 3 || !self.settings.thermal_zone || !constraint {
             return false;
+        }
+        // The thermal phase's zone, where it is frozen (the same edges).
+        if let Some(z) = &self.zone {
+            return z.edges_fitted;
         }
         let ind: Vec<f64> = (0..self.n_slave()).map(|i| self.indicator(i)).collect();
         self.contact_zone(&ind, state).edges_fitted

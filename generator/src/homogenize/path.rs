@@ -482,7 +482,8 @@ impl<'a> PathSolver<'a> {
                 Some(f) => (&mut f.model, &f.bodies),
                 None => (&mut self.model, &self.bodies),
             };
-            src.prepare_contact()?;
+            // `src` is prepared at its solved state: by `fitted` above (the
+            // case mesh) or below (the previous level).
             let marks = mark_contact_edges(src, slave)?;
             let bodies = refine_bodies(src_bodies, &marks);
             let dofs = (src.dim + 1) * bodies.n_control_points();

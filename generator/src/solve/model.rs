@@ -1024,6 +1024,7 @@ impl Model {
         let n_bulk = self.elements.len();
         let n_seam = self.seams.len();
         let unknowns = self.contact_unknowns();
+        let fields = self.phase_fields();
         let local = |e: usize, k: Option<&mut [f64]>, r: &mut [f64]| -> Result<()> {
             if e >= n_bulk + n_seam {
                 let c = self
@@ -1039,7 +1040,7 @@ impl Model {
                 return Ok(());
             }
             if e >= n_bulk {
-                self.seam_element(&self.seams[e - n_bulk], k, r);
+                self.seam_element(&self.seams[e - n_bulk], &fields, k, r);
                 return Ok(());
             }
             let (bi, ei) = self.elements[e];
@@ -1115,10 +1116,16 @@ impl Model {
     /// Residual and tangent of a seam penalty element: `β w J s` and
     /// `β w s sᵀ` per penalized field of the phase (the temperature's `β`
     /// scaled by `k/E`), `J = s·u` the jump of the normal derivative, or the
-    /// derivative (local dofs node-major over the phase's fields).
-    fn seam_element(&self, sm: &SeamElement, mut k: Option<&mut [f64]>, r: &mut [f64]) {
+    /// derivative (local dofs node-major over the phase's `fields`,
+    /// [`Model::phase_fields`]).
+    fn seam_element(
+        &self,
+        sm: &SeamElement,
+        fields: &[usize],
+        mut k: Option<&mut [f64]>,
+        r: &mut [f64],
+    ) {
         let nf = self.dim + 1;
-        let fields = self.phase_fields();
         let nl = fields.len();
         let n_local = sm.conn.len() * nl;
         let offset = self.bodies[sm.body].node_offset;
