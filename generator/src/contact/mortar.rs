@@ -26,7 +26,9 @@
 //! element-based (`interface_points²` Gauss points per slave element) and the
 //! thermal phase keeps the nodal supports of the active set (no sub-element
 //! contact zone, `thermal_zone` is a 2D refinement); the contact area is
-//! measured on the interpolated pressure indicator ([`ContactInterface::contact_length`]).
+//! measured on the interpolated pressure indicator with its edges fitted to
+//! the near-edge asymptotics of elastic contact (`edge3d`,
+//! [`ContactInterface::contact_length`]).
 
 use std::collections::BTreeSet;
 use std::sync::Arc;
@@ -49,6 +51,8 @@ use crate::geometry::{Side, ThbPatch};
 use crate::quadrature::GaussLegendre;
 use crate::solve::dofs::DofMap;
 use crate::{Error, Result};
+
+mod edge3d;
 
 /// One slave integration point (reference data).
 #[derive(Clone, Debug)]
@@ -1480,25 +1484,7 @@ impl ContactInterface {
         if hi <= lo {
             return None;
         }
-        let n = 96;
-        let grid: Vec<(f64, f64)> = (0..=n)
-            .map(|k| lo + (hi - lo) * k as f64 / n as f64)
-            .filter_map(|x| misfit(x).map(|m| (x, m)))
-            .collect();
-        let best = grid.iter().min_by(|a, b| a.1.total_cmp(&b.1))?;
-        // Golden section about the best sample.
-        let step = (hi - lo) / n as f64;
-        let (mut a, mut b) = ((best.0 - step).max(lo), (best.0 + step).min(hi));
-        let g = 0.5 * (5f64.sqrt() - 1.0);
-        for _ in 0..40 {
-            let (x1, x2) = (b - g * (b - a), a + g * (b - a));
-            if misfit(x1).unwrap_or(f64::MAX) < misfit(x2).unwrap_or(f64::MAX) {
-                b = x2;
-            } else {
-                a = x1;
-            }
-        }
-        Some(0.5 * (a + b))
+        minimize_on(misfit, lo, hi, 96)
     }
 
     /// Length (scaled) of slave face intervals projected on x in the
@@ -1526,7 +1512,8 @@ impl ContactInterface {
     /// the frozen zone in the thermal phase, else the zone of the current
     /// indicator. In 3D the indicator interpolated from the slave control
     /// points is sampled at the midpoints of `AREA_SAMPLES`² sub-cells of
-    /// every slave element (the frozen indicator in the thermal phase).
+    /// every slave element (the frozen indicator in the thermal phase), the
+    /// edges fitted to the near-edge asymptotics (`edge3d`).
     pub fn contact_length(&self, state: &[f64]) -> f64 {
         if self.dim == 3 {
             let ind: Vec<f64> = (0..self.n_slave()).map(|i| self.indicator(i)).collect();
@@ -1541,41 +1528,13 @@ impl ContactInterface {
         }
     }
 
-    /// Projected area (scaled) of the slave surface where the indicator
-    /// interpolated from the nodal values `ind` is positive (3D), in the
-    /// configuration `state`: midpoint rule on sub-cells.
+    /// Projected area (scaled) of the slave surface in contact for the
+    /// nodal indicator `ind` (3D), in the configuration `state`: the
+    /// midpoint rule on `AREA_SAMPLES`² sub-cells of every slave element,
+    /// the edges fitted to the near-edge asymptotics (`edge3d`).
     fn contact_area(&self, ind: &[f64], state: &[f64]) -> f64 {
-        let face = &*self.slave_face;
-        let (mut scratch, mut basis) = (TensorBasis::default(), RationalBasis::default());
-        let n = AREA_SAMPLES;
-        let mut area = 0.0;
-        for (e, el) in face.elements().iter().enumerate() {
-            let h = [0, 1].map(|d| (el.upper[d] - el.lower[d]) / n as f64);
-            for k in 0..n * n {
-                let xi = [
-                    el.lower[0] + h[0] * ((k % n) as f64 + 0.5),
-                    el.lower[1] + h[1] * ((k / n) as f64 + 0.5),
-                ];
-                face.element_basis_into(e, &xi, 1, &mut scratch, &mut basis);
-                let mut value = 0.0;
-                let mut dx = [[0.0; 2]; 2];
-                for (a, &c) in basis.indices.iter().enumerate() {
-                    value += basis.values[a] * ind[c];
-                    let node = self.slave_nodes[c];
-                    for j in 0..2 {
-                        let x = self.slave_ref[c][j] + state[node * NF_3D + j];
-                        for d in 0..2 {
-                            dx[j][d] += basis.d1[a][d] * x;
-                        }
-                    }
-                }
-                if value > 0.0 {
-                    let det = dx[0][0] * dx[1][1] - dx[0][1] * dx[1][0];
-                    area += det.abs() * h[0] * h[1];
-                }
-            }
-        }
-        area
+        self.contact_level_3d(ind.to_vec(), state)
+            .area(self, state, AREA_SAMPLES)
     }
 
     /// The frozen contact zone (thermal phase).
@@ -1881,4 +1840,26 @@ impl ContactInterface {
             }
         }
     }
+}
+
+/// The minimizer of `f` on `[lo, hi]` (`None` where `f` is undefined):
+/// the best of `samples + 1` equally spaced samples, then golden-section
+/// search between its neighbours.
+fn minimize_on(f: impl Fn(f64) -> Option<f64>, lo: f64, hi: f64, samples: usize) -> Option<f64> {
+    let step = (hi - lo) / samples as f64;
+    let best = (0..=samples)
+        .map(|k| lo + step * k as f64)
+        .filter_map(|x| f(x).map(|m| (x, m)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))?;
+    let (mut a, mut b) = ((best.0 - step).max(lo), (best.0 + step).min(hi));
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..40 {
+        let (x1, x2) = (b - g * (b - a), a + g * (b - a));
+        if f(x1).unwrap_or(f64::MAX) < f(x2).unwrap_or(f64::MAX) {
+            b = x2;
+        } else {
+            a = x1;
+        }
+    }
+    Some(0.5 * (a + b))
 }

@@ -494,8 +494,10 @@ pub fn hertz_default() -> Result<Vec<Check>> {
 /// Tolerances of the 3D Hertz checks for one mesh.
 #[derive(Clone, Copy, Debug)]
 pub struct Hertz3dTolerances {
-    /// Relative contact-radius error (area and axis crossing).
+    /// Relative contact-radius error, from the area.
     pub radius: f64,
+    /// Relative contact-radius error, from the edge's crossing of the x axis.
+    pub axis_radius: f64,
     /// Lumped pressures (multipliers) `pN^I` against `p(r)` over `r/a <
     /// 0.8`, relative to `p0` (they carry a checkerboard mode in 3D).
     pub multiplier: f64,
@@ -534,7 +536,7 @@ pub fn hertz_3d_checks(
             "contact radius, x-axis crossing (m)",
             r.axis_radius,
             r.hertz_radius,
-            tol.radius,
+            tol.axis_radius,
         ),
         Check::absolute(
             name,
@@ -590,7 +592,8 @@ pub fn hertz_3d_default() -> Result<Vec<Check>> {
         "contact_hertz_3d",
         &Hertz3dSetup::new(6),
         Hertz3dTolerances {
-            radius: 0.08,
+            radius: 0.03,
+            axis_radius: 0.06,
             multiplier: 0.8,
             traction: 0.06,
             force: 0.03,
@@ -602,19 +605,22 @@ pub fn hertz_3d_default() -> Result<Vec<Check>> {
 }
 
 /// The long 3D Hertz runs (`TCGEN_LONG_TESTS=1`): the meshes `n = 8, 10,
-/// 12` with their tolerances, the observed order of the contact-radius
-/// error over them, the modelling errors at `n = 8` (normal-fixed lateral
+/// 12` with their tolerances (the contact radius's error, with the edge
+/// fitted to the near-edge asymptotics, is not monotone in `n`: +1.9,
+/// −1.2, −0.29, −0.30 % on n = 6, 8, 10, 12 from the area; with the
+/// indicator's crossings it was −6.6, −4.6, −3.7, −3.0 %, first order),
+/// the modelling errors at `n = 8` (normal-fixed lateral
 /// faces, `W = H = 20 a`, `a/R = 0.015`: the change of the radius), and the
 /// default mesh solved without the Hertz predictor (the same state).
 pub fn hertz_3d_long() -> Result<Vec<Check>> {
     let mut v = Vec::new();
-    let (mut h, mut e) = (Vec::new(), Vec::new());
     let mut base = None;
     for (n, tol) in [
         (
             8,
             Hertz3dTolerances {
-                radius: 0.055,
+                radius: 0.02,
+                axis_radius: 0.02,
                 multiplier: 0.5,
                 traction: 0.035,
                 force: 0.01,
@@ -625,7 +631,8 @@ pub fn hertz_3d_long() -> Result<Vec<Check>> {
         (
             10,
             Hertz3dTolerances {
-                radius: 0.05,
+                radius: 0.006,
+                axis_radius: 0.015,
                 multiplier: 0.25,
                 traction: 0.035,
                 force: 0.01,
@@ -636,7 +643,8 @@ pub fn hertz_3d_long() -> Result<Vec<Check>> {
         (
             12,
             Hertz3dTolerances {
-                radius: 0.04,
+                radius: 0.006,
+                axis_radius: 0.006,
                 multiplier: 0.3,
                 traction: 0.025,
                 force: 0.005,
@@ -648,21 +656,10 @@ pub fn hertz_3d_long() -> Result<Vec<Check>> {
         let setup = Hertz3dSetup::new(n);
         let (checks, r) = hertz_3d_checks(&format!("contact_hertz_3d_n{n}"), &setup, tol)?;
         v.extend(checks);
-        h.push(1.25 / n as f64);
-        e.push((r.radius / r.hertz_radius - 1.0).abs());
         if n == 8 {
             base = Some(r.radius / r.hertz_radius);
         }
     }
-    let rate = crate::verify::fitted_rate(&h, &e);
-    v.push(Check::rate(
-        "contact_hertz_3d_convergence",
-        "contact radius (area) error, n = 8, 10, 12: order",
-        e[e.len() - 1],
-        rate,
-        1.0,
-        0.3,
-    ));
     let base = base.expect("n = 8 solved above");
     let mut fixed = Hertz3dSetup::new(8);
     fixed.lateral = hertz3d::LateralFaces::FixedNormal;
@@ -671,9 +668,10 @@ pub fn hertz_3d_long() -> Result<Vec<Check>> {
     wide.height_over_a = 20.0;
     let mut small = Hertz3dSetup::new(8);
     small.a_over_r = 0.015;
-    // Measured 5.6e-6, 1.7e-5 and 6.6e-4.
+    // Measured 1.3e-4, 1.7e-5 and 2.9e-4 (5.6e-6, 1.7e-5 and 6.6e-4 at the
+    // indicator's crossings).
     for (what, setup, tol) in [
-        ("lateral faces normal-fixed", fixed, 1e-4),
+        ("lateral faces normal-fixed", fixed, 3e-4),
         ("W = H = 20 a", wide, 1e-4),
         ("a/R = 0.015", small, 2e-3),
     ] {

@@ -131,6 +131,8 @@ pub struct Hertz3dSetup {
     /// (a predictor of the active set: the converged state does not depend
     /// on it, Newton's path does).
     pub seed: bool,
+    /// The augmentation factor `mechanical_penalty` (`None`: 1).
+    pub mechanical_penalty: Option<f64>,
 }
 
 impl Hertz3dSetup {
@@ -150,6 +152,7 @@ impl Hertz3dSetup {
             lateral: LateralFaces::Free,
             temperature_difference: 10.0,
             seed: true,
+            mechanical_penalty: None,
         }
     }
 
@@ -266,7 +269,12 @@ impl Hertz3dSetup {
         b.fix_face(lo, 2, Side::Low, 3, theta0);
         b.fix_face(up, 2, Side::High, 3, theta0 + self.temperature_difference);
         b.initial_temperature(theta0);
-        b.contact((up, 2, Side::Low), (lo, 2, Side::High), &settings(), None)?;
+        b.contact(
+            (up, 2, Side::Low),
+            (lo, 2, Side::High),
+            &settings(self.mechanical_penalty),
+            None,
+        )?;
         let mut model = b.build(Coupling::Mechanical)?;
         model.touch(up, 2)?;
         Ok(model)
@@ -274,11 +282,13 @@ impl Hertz3dSetup {
 }
 
 /// The paper's mortar method with nodal supports (as the 2D benchmark), the
-/// constraint model with the augmented Lagrangian.
-fn settings() -> ContactSettings {
+/// constraint model with the augmented Lagrangian; the augmentation factor
+/// `mechanical_penalty`.
+fn settings(mechanical_penalty: Option<f64>) -> ContactSettings {
     ContactSettings {
         thermal: ThermalContact::default(),
         thermal_zone: false,
+        mechanical_penalty,
         ..ContactSettings::default()
     }
 }
@@ -623,13 +633,18 @@ fn axis_crossing(model: &Model, w: f64) -> Result<f64> {
         .iter()
         .map(|&n| model.displacement(n, 0) / s.length)
         .collect();
+    // The contact area's level (the edges fitted as for the area).
+    let state = &model.state;
+    let level = c.contact_level_3d(ind, state);
     let eval = |u: f64| -> (f64, f64) {
         let b = face.basis(&[u, 0.0], 0);
-        let (mut v, mut x) = (0.0, 0.0);
-        for (&i, n) in b.indices.iter().zip(&b.values) {
-            v += n * ind[i];
-            x += n * (face.control_points()[i][0] + ux[i]);
-        }
+        let x: f64 = b
+            .indices
+            .iter()
+            .zip(&b.values)
+            .map(|(&i, n)| n * (face.control_points()[i][0] + ux[i]))
+            .sum();
+        let v = c.contact_level_at(&level, state, face.locate(&[u, 0.0]), [u, 0.0]);
         (v, x)
     };
     let samples = 2000;
