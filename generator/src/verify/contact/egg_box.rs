@@ -328,3 +328,51 @@ pub const DEFAULT_TOLERANCES: EggBoxTolerances = EggBoxTolerances {
     bem_conductance: 0.25,
     bem_conductance_near_full: 0.65,
 };
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The boundary-element data are those of this sample: its `p*`, `E*`,
+    /// cell, RMS and conductivity (the header the script writes), every
+    /// pressure at its ratio of `p*`, and physically sane rows.
+    #[test]
+    fn the_bem_reference_is_this_samples() {
+        let text = include_str!("../../../tests/data/egg_box_tamaas.csv");
+        let key = |name: &str| -> f64 {
+            text.lines()
+                .find_map(|l| l.strip_prefix(&format!("# {name} = ")))
+                .unwrap_or_else(|| panic!("{name} in the header"))
+                .trim()
+                .parse()
+                .unwrap()
+        };
+        let rel = |a: f64, b: f64| (a - b).abs() / b.abs();
+        let m = benchmark_material();
+        assert!(rel(key("p_star"), p_star()) < 1e-8);
+        assert!(rel(key("e_star"), benchmark_e_star()) < 1e-8);
+        assert!(rel(key("wavelength"), WAVELENGTH) < 1e-12);
+        assert!(rel(key("width"), WAVELENGTH) < 1e-12);
+        assert!(rel(key("rms"), RMS) < 1e-12);
+        assert!(rel(key("conductivity"), m.thermal_conductivity) < 1e-12);
+        let rows = bem_reference();
+        assert_eq!(rows.len(), 8);
+        for line in text.lines().filter(|l| !l.starts_with('#')).skip(1) {
+            let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+            assert!(rel(v[1], v[0] * p_star()) < 1e-8, "{line}");
+        }
+        for w in rows.windows(2) {
+            // More contact, smaller gaps and a stiffer interface with pressure.
+            assert!(w[1].contact_fraction > w[0].contact_fraction);
+            assert!(w[1].mean_gap < w[0].mean_gap);
+            assert!(w[1].barber_conductance > w[0].barber_conductance);
+        }
+        assert!(
+            rows.iter()
+                .all(|r| r.contact_fraction > 0.0 && r.contact_fraction < 1.0)
+        );
+        for &r in &RATIOS {
+            assert!(rows.iter().any(|b| (b.ratio - r).abs() < 1e-9), "{r} p*");
+        }
+    }
+}
