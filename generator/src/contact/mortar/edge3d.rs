@@ -251,12 +251,7 @@ impl ContactLevel3d {
                     el.lower[1] + h[1] * ((k / n) as f64 + 0.5),
                 ];
                 let p = probe.at(e, xi);
-                let inside = if self.near[e].is_empty() {
-                    p.value > 0.0
-                } else {
-                    self.level(e, &p) > 0.0
-                };
-                visit(e, xi, p.det().abs() * h[0] * h[1], inside);
+                visit(e, xi, p.det().abs() * h[0] * h[1], self.level(e, &p) > 0.0);
             }
         }
     }
@@ -316,6 +311,16 @@ impl<'a> Probe<'a> {
             (-jac[0][1] * dv[0] + jac[0][0] * dv[1]) / det,
         ];
         p
+    }
+
+    /// The centre (parameters) of element `e`, the indicator there, and the
+    /// element's size `√(area)` in the mean plane (from the centre's Jacobian).
+    fn at_centre(&mut self, e: usize) -> ([f64; 2], IndicatorPoint, f64) {
+        let el = &self.iface.slave_face.elements()[e];
+        let centre = [0, 1].map(|d| 0.5 * (el.lower[d] + el.upper[d]));
+        let area = (el.upper[0] - el.lower[0]) * (el.upper[1] - el.lower[1]);
+        let p = self.at(e, centre);
+        (centre, p, (p.det().abs() * area).sqrt())
     }
 
     /// The indicator at the parameters `xi` of the face, wrapped across
@@ -444,11 +449,7 @@ impl ContactInterface {
     /// along the normal of its segment nearest the element's centre (the
     /// asymptotics hold a few elements from the other edge only).
     fn wide_both_sides(&self, probe: &mut Probe, level: &ContactLevel3d, e: usize) -> bool {
-        let el = &self.slave_face.elements()[e];
-        let centre = [0, 1].map(|d| 0.5 * (el.lower[d] + el.upper[d]));
-        let p = probe.at(e, centre);
-        let area = (el.upper[0] - el.lower[0]) * (el.upper[1] - el.lower[1]);
-        let size = (p.det().abs() * area).sqrt();
+        let (centre, p, size) = probe.at_centre(e);
         let Some((mid, tangent)) = level.by_element[e]
             .iter()
             .map(|&s| {
@@ -515,14 +516,8 @@ impl ContactInterface {
             .copied()
             .filter(|&c| ind[c] <= 0.0)
             .collect();
-        let el = &elements[e];
-        let (h, inward) = {
-            let centre = [0, 1].map(|d| 0.5 * (el.lower[d] + el.upper[d]));
-            let area = (el.upper[0] - el.lower[0]) * (el.upper[1] - el.lower[1]);
-            let p = probe.at(e, centre);
-            ((p.det().abs() * area).sqrt(), p.grad)
-        };
-        let radius = level.radius(e, h, inward);
+        let (_, at_centre, h) = probe.at_centre(e);
+        let radius = level.radius(e, h, at_centre.grad);
         // Per out-of-contact node: its support's points (φ, weight·N).
         let mut terms: Vec<Vec<(f64, f64)>> = vec![Vec::new(); out.len()];
         let mut area = vec![0.0; out.len()];
