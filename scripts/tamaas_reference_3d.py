@@ -74,8 +74,10 @@ def read_map(path):
     return z.T.copy()  # rows are y in the file; tamaas indexes [x, y]
 
 
-def solve(surface, pressure):
-    """Contact fraction, mean gap and mean traction at mean pressure `pressure` (Pa)."""
+def solve(surface, pressure, gap_levels=()):
+    """Contact fraction, mean gap and mean traction at mean pressure `pressure` (Pa);
+    with `gap_levels` (m), also the fractions of the surface whose gap is at most
+    each level (a fourth value, a list)."""
     n = surface.shape[0]
     model = tm.ModelFactory.createModel(tm.model_type.basic_2d, [WIDTH, WIDTH], [n, n])
     model.E = E_STAR  # E* with nu = 0 below
@@ -86,7 +88,10 @@ def solve(surface, pressure):
     traction = np.asarray(model.traction).reshape(surface.shape)
     gap = np.asarray(model.displacement).reshape(surface.shape) - surface
     gap -= min(gap.min(), 0.0)
-    return float((traction > 0).mean()), float(gap.mean()), float(traction.mean())
+    out = float((traction > 0).mean()), float(gap.mean()), float(traction.mean())
+    if gap_levels:
+        return out + ([float((gap <= level).mean()) for level in gap_levels],)
+    return out
 
 
 def reference(heights):

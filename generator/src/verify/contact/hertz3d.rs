@@ -50,9 +50,12 @@
 //! | 10 | 18 190 | −3.7 % | −4.2 % | 0.17 | 0.025 | 0.0041 | 0.22 | 0.027 | 29 s |
 //! | 12 | 27 473 | −3.0 % | −3.1 % | 0.24 | 0.018 | 0.0023 | 0.22 | 0.047 | 55 s |
 //!
-//! The radius error is first order in the element size (fitted order 1.02
-//! over n = 8, 10, 12; extrapolated −0.1 %): the inward bias of the nodal
-//! active set, as in 2D. The lumped multipliers `pN^I` carry a
+//! The radii in the table are the indicator's crossings: their error is
+//! first order in the element size (fitted order 1.02 over n = 8, 10, 12;
+//! extrapolated −0.1 %), the inward bias of the nodal active set, as in
+//! 2D. With the edge fitted to the point gaps outside it (`contact::mortar`'s
+//! `edge3d`, stop 23) the radius from the area is −0.23, −1.14, −0.66,
+//! −0.54 % on n = 6, 8, 10, 12 (x axis +0.97, −1.49, −1.51, −0.53 %). The lumped multipliers `pN^I` carry a
 //! checkerboard mode (the consistent mortar matrix `⟨N^I N^J⟩` of
 //! quadratic B-splines damps the alternating mode by `(16/120)² ≈ 1/56` on
 //! a surface, against `2/15` on a curve): the nodal forces, the pressure
