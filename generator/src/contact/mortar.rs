@@ -497,9 +497,8 @@ impl ContactInterface {
             face.element_basis_into(b.element, &[b.xi], 1, &mut scratch, &mut basis);
             let (mut x, mut dx, mut dx_ref) = ([0.0; 2], [0.0; 2], [0.0; 2]);
             for (a, &c) in basis.indices.iter().enumerate() {
-                let n = self.slave_nodes[c];
                 for k in 0..2 {
-                    let cur = self.slave_ref[c][k] + state[n * 3 + k];
+                    let cur = self.slave_coordinate(c, k, state);
                     x[k] += basis.values[a] * cur;
                     dx[k] += basis.d1[a][0] * cur;
                     dx_ref[k] += basis.d1[a][0] * self.slave_ref[c][k];
@@ -1362,8 +1361,7 @@ impl ContactInterface {
             return None;
         }
         let (mut scratch, mut basis) = (TensorBasis::default(), RationalBasis::default());
-        let current =
-            |c: usize, d: usize| self.slave_ref[c][d] + state[self.slave_nodes[c] * 3 + d];
+        let current = |c: usize, d: usize| self.slave_coordinate(c, d, state);
         let rule = GaussLegendre::new(EDGE_POINTS);
         // Quadrature of the nodes' supports: (ξ, x, weight·|x'|, N^c of each node).
         let support: BTreeSet<usize> = (0..elements.len())
@@ -1498,7 +1496,7 @@ impl ContactInterface {
                 .indices
                 .iter()
                 .zip(&basis.values)
-                .map(|(&c, &n)| n * (self.slave_ref[c][0] + state[self.slave_nodes[c] * 3]))
+                .map(|(&c, &n)| n * self.slave_coordinate(c, 0, state))
                 .sum()
         };
         intervals
@@ -1540,6 +1538,12 @@ impl ContactInterface {
     /// The frozen contact zone (thermal phase).
     pub fn zone(&self) -> Option<&ContactZone> {
         self.zone.as_ref()
+    }
+
+    /// Coordinate `d` of slave control point `c` in the configuration `state`
+    /// (reference plus displacement, scaled).
+    fn slave_coordinate(&self, c: usize, d: usize, state: &[f64]) -> f64 {
+        self.slave_ref[c][d] + state[self.slave_nodes[c] * (self.dim + 1) + d]
     }
 
     /// Mean gap over the slave surface (scaled), penetrations counted as 0

@@ -35,9 +35,9 @@
 //!   three elements along the edge, over which the gap at a given distance
 //!   varies (a spot of the egg box is not round), and the nodes at the edge
 //!   average the inside oscillation in; fitted to `g^J`, the egg box's edges
-//!   stayed at the crossings (−0.2 to +0.14 elements) and its area 20 %
-//!   short of the boundary elements' where the gaps outside matched them
-//!   (stop 23, `docs/3d.md`);
+//!   stayed near the crossings (shifts −0.2 to +0.14 elements on one level)
+//!   and with two levels its area was 19.5 % short of the boundary
+//!   elements' where the gaps outside matched them (stop 23, `docs/3d.md`);
 //! - the fit applies only where the indicator keeps its sign
 //!   [`EDGE_MIN_RANGE`] elements along the normal on both sides (spots and
 //!   gaps at least that wide, as in 2D); other elements keep the crossing.
@@ -47,7 +47,7 @@
 
 use std::collections::BTreeSet;
 
-use super::{ContactInterface, EDGE_MIN_RANGE, NF_3D};
+use super::{ContactInterface, EDGE_MIN_RANGE};
 use crate::basis::{RationalBasis, TensorBasis};
 
 /// A crossing curve of larger radius (in element sizes) is straight.
@@ -307,8 +307,7 @@ impl<'a> Probe<'a> {
                 dv[d] += self.basis.d1[a][d] * self.ind[c];
             }
             for j in 0..2 {
-                let xj =
-                    self.iface.slave_ref[c][j] + self.state[self.iface.slave_nodes[c] * NF_3D + j];
+                let xj = self.iface.slave_coordinate(c, j, self.state);
                 x[j] += self.basis.values[a] * xj;
                 for d in 0..2 {
                     jac[j][d] += self.basis.d1[a][d] * xj;
@@ -555,8 +554,7 @@ impl ContactInterface {
                 for (a, &c) in point.conn.iter().enumerate() {
                     at.value += point.basis[a] * ind[c];
                     for j in 0..2 {
-                        let xj = self.slave_ref[c][j] + state[self.slave_nodes[c] * NF_3D + j];
-                        at.x[j] += point.basis[a] * xj;
+                        at.x[j] += point.basis[a] * self.slave_coordinate(c, j, state);
                     }
                 }
                 if let Some((phi, s)) = level.distance(k, &at)

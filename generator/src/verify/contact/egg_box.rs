@@ -2,10 +2,11 @@
 //! Johnson, Greenwood and Higginson 1985; Barber 2003): the 3D micro-sample
 //! of spec §3 and §5 through the product's path (`[sample] dimension = 3`,
 //! [`PathSolver`] along the pressure path, two-phase), with
-//! `f = 2·rms·cos(2πx/λ)·cos(2πy/λ)` on the upper body (slave; `Δ/λ = 2·rms/λ = 0.002`), a flat lower body, one
-//! wavelength per cell, PR sides, heights `H = λ`, Table I with a constant
-//! conductivity, p = 2, non-matching meshes (8:7 per lateral direction)
-//! refined `interface_levels` times at the interface.
+//! `f = 2·rms·cos(2πx/λ)·cos(2πy/λ)` on the upper body (slave;
+//! `Δ/λ = 2·rms/λ = 0.002`), a flat lower body, one wavelength per cell,
+//! PR sides, heights `H = λ`, Table I with a constant conductivity, p = 2,
+//! non-matching meshes (8:7 per lateral direction) refined
+//! `interface_levels` times at the interface.
 //!
 //! Checked at fractions of `p* = √2 π E* Δ/λ` ([`crate::analytical::egg_box`]):
 //! - **contact area** against the Hertz asymptote `0.762 (p̄/p*)^(2/3)` at

@@ -53,10 +53,10 @@
 //! The radii in the table are the indicator's crossings: their error is
 //! first order in the element size (fitted order 1.02 over n = 8, 10, 12;
 //! extrapolated −0.1 %), the inward bias of the nodal active set, as in
-//! 2D. With the edge fitted to the point gaps outside it (`contact::mortar`'s
-//! `edge3d`, stop 23) the radius from the area is −0.23, −1.14, −0.66,
-//! −0.54 % on n = 6, 8, 10, 12 (x axis +0.97, −1.49, −1.51, −0.53 %). The lumped multipliers `pN^I` carry a
-//! checkerboard mode (the consistent mortar matrix `⟨N^I N^J⟩` of
+//! 2D. With the edge fitted to the point gaps outside it
+//! (`contact::mortar`'s `edge3d`, stop 23) the radius from the area is
+//! −0.23, −1.14, −0.66, −0.54 % on n = 6, 8, 10, 12 (x axis +0.97, −1.49,
+//! −1.51, −0.53 %). The lumped multipliers `pN^I` carry a checkerboard mode (the consistent mortar matrix `⟨N^I N^J⟩` of
 //! quadratic B-splines damps the alternating mode by `(16/120)² ≈ 1/56` on
 //! a surface, against `2/15` on a curve): the nodal forces, the pressure
 //! field and `F(r)` are smooth and converge. The thermal multipliers ring
