@@ -63,15 +63,17 @@ fn patch_tests_3d() {
     assert_pass(&contact::patch_3d().unwrap());
 }
 
-/// The 3D egg box on a coarse mesh: conductance against Barber's analogy
-/// at 0.1 and 0.3 p* (the default suite), and against the boundary-element
-/// reference (tamaas): contact fraction −55 / −30 %, mean gap +24 / +24 %,
-/// conductance +9 / −17 % (measured in stop 22; the spots span one or two
-/// elements), area with a gap of at most 0.05 Δ / 0.1 Δ −44 / −39 % and
-/// −15 / −9 % (stop 23); the catalogue's sample with the JGH asymptotes in the long run. Measured on 6 × 6 × 2 / 5 × 5 × 2 with
-/// the smoothed seams: 1.1 % and 12.9 % (2.2 % and 1.9 % with the C0 seams;
+/// The 3D egg box on a coarse mesh (6 × 6 × 2 / 5 × 5 × 2, the spots span
+/// one or two elements) at 0.1 and 0.3 p* (the default suite) against the
+/// boundary-element reference (tamaas): contact fraction −55 / −30 %, mean
+/// gap +24 / +24 %, conductance +9 / −17 % (stop 22), area with a gap of
+/// at most 0.05 Δ / 0.1 Δ −44 / −39 % and −15 / −9 % (stop 23), the
+/// contact zone's conductance −26.8 / −20.0 % (stop 24; tolerance 30 %);
+/// the conductance against Barber's analogy of the computed stiffness: 1.1 %
+/// and 12.9 % with the smoothed seams (2.2 % and 1.9 % with the C0 seams;
 /// the spot sits on the seams' corner, and the catalogue's 8 × 8 × 3 sample
-/// with one interface level is within 1.2–2.3 % either way), tolerance 15 %.
+/// with one interface level is within 1.2–2.3 % either way), tolerance
+/// 15 %. The catalogue's sample with the JGH asymptotes in the long run.
 #[test]
 fn egg_box_3d() {
     use tcgen::verify::contact::egg_box::{EggBoxSample, EggBoxTolerances, egg_box_checks};
@@ -93,6 +95,7 @@ fn egg_box_3d() {
         bem_gap_distribution: 0.5,
         bem_conductance: 0.25,
         bem_conductance_near_full: 1.0,
+        bem_zone_conductance: 0.3,
     };
     assert_pass(&egg_box_checks("egg_box_coarse", &rows, tol));
     if long() {

@@ -378,20 +378,30 @@ fn sheet_integral(x: &[[f64; 3]], f: &[f64], [nx, ny]: [usize; 2], offset: usize
 /// the interpolated pressure and heat flux integrated over the reference
 /// slave cells (written positions less displacement) reproduce those sums
 /// to 2.3e-2, the sampling error of the corner-mean rule on the curved
-/// surface (on the deformed cells they fall 7 % short at 100 kPa).
+/// surface (on the deformed cells they fall 7 % short at 100 kPa); the
+/// same with the thermal phase on the contact zone (`thermal_zone = true`,
+/// the heat flux written per whole lumped area; 1.79 in the integral when
+/// it was the zone's `h0^I` interpolated over the whole supports).
 #[test]
 fn three_d_files_are_hexahedra_and_quadrilaterals_and_balance() {
     let width = 1.0e-5;
     let area = width * width;
-    for (method, label) in [
+    for (method, zone, label) in [
         (
             Method::TwoPhaseSelfConsistent,
+            None,
             "3d-two-phase-self-consistent",
         ),
-        (Method::Coupled, "3d-coupled"),
+        (
+            Method::TwoPhaseSelfConsistent,
+            Some(true),
+            "3d-two-phase-contact-zone",
+        ),
+        (Method::Coupled, None, "3d-coupled"),
     ] {
         let dir = out_dir(label);
-        let c = case_3d(method, &[3.0e4, 1.0e5]);
+        let mut c = case_3d(method, &[3.0e4, 1.0e5]);
+        c.contact.thermal_zone = zone;
         assert_eq!(c.sample.width, width);
         let r = solve_into(&c, &dir);
         for (k, r) in r.iter().enumerate() {

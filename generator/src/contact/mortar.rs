@@ -23,12 +23,14 @@
 //! (displacement, temperature); in 3D the master is a surface
 //! ([`crate::contact::projection3d`], periodic in x and y) and the gap and
 //! jump come from [`crate::contact::kinematics3d`]. In 3D the integration is
-//! element-based (`interface_points²` Gauss points per slave element) and the
-//! thermal phase keeps the nodal supports of the active set (no sub-element
-//! contact zone, `thermal_zone` is a 2D refinement); the contact area is
-//! measured on the interpolated pressure indicator with its edges fitted to
-//! the near-edge asymptotics of elastic contact (`edge3d`,
-//! [`ContactInterface::contact_length`]).
+//! element-based (`interface_points²` Gauss points per slave element); the
+//! contact area is measured on the interpolated pressure indicator with its
+//! edges fitted to the point gaps just outside them (`edge3d`,
+//! [`ContactInterface::contact_length`]). The thermal phase keeps the nodal
+//! supports of the active set by default; with `thermal_zone = true` it
+//! integrates over that contact area as in 2D (the Gauss rule in elements
+//! wholly inside, the midpoint rule on the in-zone sub-cells of the
+//! elements at its edge).
 
 use std::collections::BTreeSet;
 use std::sync::Arc;
@@ -43,7 +45,7 @@ use crate::contact::projection::{
     MasterCurve, MasterSamples, Projection, project, project_on_element,
 };
 use crate::contact::projection3d::{self, Guess, MasterSearch, MasterSurface, SurfaceProjection};
-use crate::contact::segments::{Breakpoint, Segmenter, interval_points};
+use crate::contact::segments::{Breakpoint, Segmenter, cell_points, interval_points};
 use crate::contact::{
     ContactSettings, Integration, ThermalContact, ThermalEnforcement, ThermalMethod,
 };
@@ -267,6 +269,10 @@ const EDGE_POINTS: usize = 24;
 /// must span for the edge to be fitted to the asymptotics
 /// ([`ContactInterface::locate_edge`]).
 const EDGE_MIN_RANGE: f64 = 4.0;
+
+/// Sub-cells per slave element and direction on which the 3D contact zone of
+/// the thermal phase is integrated (midpoint rule in the elements at its edge).
+const ZONE_CELLS: usize = 8;
 
 /// Unknowns per node in 3D: `(ux, uy, uz, θ)`.
 const NF_3D: usize = 4;
@@ -1071,8 +1077,21 @@ impl ContactInterface {
         let p: Vec<f64> = (0..self.n_slave()).map(|i| self.indicator(i)).collect();
         let a: Vec<bool> = (0..self.n_slave()).map(|i| self.is_active(i)).collect();
         let constraint = matches!(self.settings.thermal, ThermalContact::Constraint { .. });
-        if !(self.settings.thermal_zone && constraint) || self.dim == 3 {
+        if !(self.settings.thermal_zone_in(self.dim) && constraint) {
             self.frozen = Some((p, a));
+            return;
+        }
+        if self.dim == 3 {
+            let level = self.contact_level_3d(p.clone(), state);
+            let zone = ContactZone {
+                intervals: Vec::new(),
+                projected_length: level.area(self, state, AREA_SAMPLES),
+                mean_gap: self.mean_gap(),
+                surface_area: self.lumped_area.clone(),
+                edges_fitted: level.edges_fitted(),
+            };
+            let points = self.zone_points_3d(&p, &level, state);
+            self.freeze_on_zone(points, zone, p, a);
             return;
         }
         let mut zone = self.contact_zone(&p, state);
@@ -1123,6 +1142,76 @@ impl ContactInterface {
                 interval_points(&self.slave_face, e, (w[0], w[1]), &rule, &mut points);
             }
         }
+        self.freeze_on_zone(points, zone, p, a);
+    }
+
+    /// The thermal points of the 3D contact zone of `level` (nodal
+    /// indicator values `p`, configuration `state`): a slave element whose
+    /// [`ZONE_CELLS`]² sub-cell centres all lie in the zone keeps its Gauss
+    /// rule; one with some in it gets the midpoint rule on those sub-cells
+    /// (the zone's edge, fitted to the near-edge asymptotics (`edge3d`), to
+    /// a sub-cell); and, as in 2D, an element holding a node in contact
+    /// whose support the zone does not reach keeps its Gauss rule.
+    fn zone_points_3d(
+        &self,
+        p: &[f64],
+        level: &edge3d::ContactLevel3d,
+        state: &[f64],
+    ) -> Vec<SlavePoint> {
+        let face = Arc::clone(&self.slave_face);
+        let els = face.elements();
+        let n = ZONE_CELLS;
+        let rule = GaussLegendre::new(self.settings.interface_points);
+        let gauss = |lo: [f64; 2], hi: [f64; 2]| -> Vec<([f64; 2], f64)> {
+            let (r0, r1): (Vec<_>, Vec<_>) = (
+                rule.on_interval(lo[0], hi[0]).collect(),
+                rule.on_interval(lo[1], hi[1]).collect(),
+            );
+            r1.iter()
+                .flat_map(|&(y, wy)| r0.iter().map(move |&(x, wx)| ([x, y], wx * wy)))
+                .collect()
+        };
+        // Per element: the sub-cells in the zone (parameters, parametric area).
+        let mut inside: Vec<Vec<([f64; 2], f64)>> = vec![Vec::new(); els.len()];
+        level.visit_cells(self, state, n, |e, xi, _, is_in| {
+            if is_in {
+                let el = &els[e];
+                let cell = (el.upper[0] - el.lower[0]) * (el.upper[1] - el.lower[1]);
+                inside[e].push((xi, cell / (n * n) as f64));
+            }
+        });
+        let reached: BTreeSet<usize> = inside
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| !c.is_empty())
+            .flat_map(|(e, _)| els[e].functions.iter().copied())
+            .collect();
+        let mut points = Vec::new();
+        for (e, el) in els.iter().enumerate() {
+            let whole = inside[e].len() == n * n
+                || el
+                    .functions
+                    .iter()
+                    .any(|&i| p[i] > 0.0 && !reached.contains(&i));
+            let (lo, hi) = ([el.lower[0], el.lower[1]], [el.upper[0], el.upper[1]]);
+            if whole {
+                cell_points(&face, e, gauss(lo, hi), &mut points);
+            } else if !inside[e].is_empty() {
+                cell_points(&face, e, inside[e].iter().copied(), &mut points);
+            }
+        }
+        points
+    }
+
+    /// Moves the thermal contact integrals onto the zone's `points` (the
+    /// frozen indicator `p` and active set `a`): see [`ContactInterface::freeze`].
+    fn freeze_on_zone(
+        &mut self,
+        points: Vec<SlavePoint>,
+        zone: ContactZone,
+        p: Vec<f64>,
+        a: Vec<bool>,
+    ) {
         // Multipliers on the nodes of positive indicator only. A node that the zone reaches but whose indicator is not
         // positive hands its test function, point by point, to the
         // in-contact node of largest basis value there. The ψ^I stay a
@@ -1300,9 +1389,11 @@ impl ContactInterface {
     /// frozen zone's, in the thermal phase): the
     /// regime in which the jump's error is that of the fitted edges (2D
     /// constraint models with `thermal_zone`; no edges counts as fitted).
+    /// Always `false` in 3D, whose zone's edges are fitted too but whose
+    /// adaptive sequence has not been measured in that regime.
     pub fn zone_edges_fitted(&self, state: &[f64]) -> bool {
         let constraint = matches!(self.settings.thermal, ThermalContact::Constraint { .. });
-        if self.dim == 3 || !self.settings.thermal_zone || !constraint {
+        if self.dim == 3 || !self.settings.thermal_zone_in(self.dim) || !constraint {
             return false;
         }
         // The thermal phase's zone, where it is frozen (the same edges).
@@ -1513,16 +1604,14 @@ impl ContactInterface {
     /// every slave element (the frozen indicator in the thermal phase), the
     /// edges fitted to the near-edge asymptotics (`edge3d`).
     pub fn contact_length(&self, state: &[f64]) -> f64 {
-        if self.dim == 3 {
-            let ind: Vec<f64> = (0..self.n_slave()).map(|i| self.indicator(i)).collect();
-            return self.contact_area(&ind, state);
+        if let Some(z) = &self.zone {
+            return z.projected_length;
         }
-        match &self.zone {
-            Some(z) => z.projected_length,
-            None => {
-                let ind: Vec<f64> = (0..self.n_slave()).map(|i| self.indicator(i)).collect();
-                self.contact_zone(&ind, state).projected_length
-            }
+        let ind: Vec<f64> = (0..self.n_slave()).map(|i| self.indicator(i)).collect();
+        if self.dim == 3 {
+            self.contact_area(&ind, state)
+        } else {
+            self.contact_zone(&ind, state).projected_length
         }
     }
 

@@ -149,6 +149,34 @@ pub fn interval_points(
     }
 }
 
+/// Appends to `out` the points `(ξ, w)` (parameters and parametric weights)
+/// of element `e` of the slave face surface `face` (3D), their weights
+/// times the reference area Jacobian `|∂x/∂ξ1 × ∂x/∂ξ2|`.
+pub fn cell_points(
+    face: &ThbPatch,
+    e: usize,
+    rule: impl IntoIterator<Item = ([f64; 2], f64)>,
+    out: &mut Vec<SlavePoint>,
+) {
+    let (mut scratch, mut basis) = (TensorBasis::default(), RationalBasis::default());
+    let cp = face.control_points();
+    for (xi, wq) in rule {
+        face.element_basis_into(e, &xi, 1, &mut scratch, &mut basis);
+        let mut t = [nalgebra::Vector3::zeros(); 2];
+        for (&g, d) in basis.indices.iter().zip(&basis.d1) {
+            for (k, t) in t.iter_mut().enumerate() {
+                *t += d[k] * nalgebra::Vector3::from(cp[g]);
+            }
+        }
+        out.push(SlavePoint {
+            element: e,
+            conn: basis.indices.clone(),
+            basis: basis.values.clone(),
+            weight: wq * t[0].cross(&t[1]).norm(),
+        });
+    }
+}
+
 /// Appends to `breaks` every change of piece between `left` and `right`.
 fn bisect(
     at: &mut impl FnMut(f64) -> Result<Piece>,

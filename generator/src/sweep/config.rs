@@ -358,7 +358,8 @@ impl SweepConfig {
 fn resolved_case_table(case: &Case) -> Result<toml::Table> {
     let mut case = case.clone();
     // Automatic values made explicit (the values the solver uses): the bulk
-    // Gauss points p + 2, the normal penalty factor 1 (εN = E/h). The
+    // Gauss points p + 2, the normal penalty factor 1 (εN = E/h), the
+    // thermal contact zone (2D on, 3D off unless given). The
     // thermal penalty of the constraint model stays automatic: its default
     // 10 k0/h depends on the slave element size (schemas/case.md).
     let d = &mut case.discretization;
@@ -367,6 +368,8 @@ fn resolved_case_table(case: &Case) -> Result<toml::Table> {
             .unwrap_or(crate::quadrature::default_bulk_points(d.degree)),
     );
     case.contact.mechanical_penalty = Some(case.contact.mechanical_penalty.unwrap_or(1.0));
+    // The thermal phase's contact zone: by dimension unless given.
+    case.contact.thermal_zone = Some(case.contact.thermal_zone_in(case.dimension()));
     // Random surfaces: the stream of each body and the self-affine roll-off
     // (default the width) explicit; `exact_rms` is always written.
     let width = case.sample.width;

@@ -152,6 +152,14 @@ fn crosses(functions: &[usize], ind: &[f64]) -> bool {
 }
 
 impl ContactLevel3d {
+    /// Whether every element the crossing curve passes through has a fitted edge.
+    pub(crate) fn edges_fitted(&self) -> bool {
+        self.by_element
+            .iter()
+            .zip(&self.shift)
+            .all(|(s, d)| s.is_empty() || d.is_some())
+    }
+
     /// `x − y` across the periodic seams (the nearest image).
     fn offset(&self, x: [f64; 2], y: [f64; 2]) -> [f64; 2] {
         let mut d = [x[0] - y[0], x[1] - y[1]];
@@ -339,18 +347,22 @@ impl<'a> Probe<'a> {
         (centre, p, (p.det().abs() * area).sqrt())
     }
 
-    /// The indicator at the parameters `xi` of the face, wrapped across
-    /// periodic seams; `None` off a non-periodic face.
-    fn at_param(&mut self, xi: [f64; 2]) -> Option<IndicatorPoint> {
+    /// The indicator at the parameters `xi` of the face, continued beyond
+    /// it as the lateral faces continue the model: wrapped across periodic
+    /// seams (PR); mirrored at LN faces, which are planes of symmetry (zero
+    /// normal displacement and shear traction, adiabatic: the cell is one
+    /// half-period of its mirror images).
+    fn at_param(&mut self, xi: [f64; 2]) -> IndicatorPoint {
         let xi = if self.iface.period.is_some() {
             xi.map(|t| t.rem_euclid(1.0))
-        } else if xi.iter().all(|t| (0.0..=1.0).contains(t)) {
-            xi
         } else {
-            return None;
+            xi.map(|t| {
+                let t = t.rem_euclid(2.0);
+                if t > 1.0 { 2.0 - t } else { t }
+            })
         };
         let e = self.iface.slave_face.locate(&xi);
-        Some(self.at(e, xi))
+        self.at(e, xi)
     }
 
     /// The crossing curve in element `e`: marching squares on `n × n`
@@ -501,17 +513,14 @@ impl ContactInterface {
             [centre[0] + dxi[0], centre[1] + dxi[1]]
         };
         // Into contact.
-        match probe.at_param(param(normal, 0.25 * size)) {
-            Some(q) if q.value > 0.0 => {}
-            _ => normal = normal.map(|v| -v),
+        if probe.at_param(param(normal, 0.25 * size)).value <= 0.0 {
+            normal = normal.map(|v| -v);
         }
         let steps = EDGE_MIN_RANGE.ceil() as usize;
         for side in [1.0, -1.0] {
             for k in 1..=steps {
                 let t = side * k as f64 * size;
-                if let Some(q) = probe.at_param(param(normal, t))
-                    && (q.value > 0.0) != (side > 0.0)
-                {
+                if (probe.at_param(param(normal, t)).value > 0.0) != (side > 0.0) {
                     return false;
                 }
             }

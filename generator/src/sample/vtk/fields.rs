@@ -308,9 +308,21 @@ fn sample_interface(model: &Model) -> Option<InterfaceFields> {
             .collect();
         (dims, weights)
     };
+    // In 3D the heat flux is interpolated as each node's heat flow per its
+    // whole lumped area, `h0^I ⟨N^I⟩_thermal / ⟨N^I⟩`, like the contact
+    // pressure: its integral over the surface is then the heat flow also
+    // where the thermal phase integrates over the contact zone only.
+    let interpolated = |i: usize, k: usize| {
+        let v = &nodal[i];
+        if dim == 3 && k == 6 && v[5] > 0.0 {
+            v[6] * v[7] / v[5]
+        } else {
+            v[k]
+        }
+    };
     let values: Vec<[f64; 11]> = weights
         .iter()
-        .map(|w| std::array::from_fn(|k| w.iter().map(|&(i, r)| r * nodal[i][k]).sum()))
+        .map(|w| std::array::from_fn(|k| w.iter().map(|&(i, r)| r * interpolated(i, k)).sum()))
         .collect();
     let column = |k: usize| values.iter().map(|v| v[k]).collect();
     Some(InterfaceFields {

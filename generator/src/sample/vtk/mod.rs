@@ -19,7 +19,7 @@
 //!   `lumped_area` `⟨N^I⟩` (4.8) (m per m of depth in 2D, m² in 3D, over
 //!   the whole slave surface), `interface_heat_flux` `h0^I` (W/m², into the
 //!   slave) and `thermal_lumped_area`, the `⟨N^I⟩` the thermal contact is
-//!   integrated with (over the contact zone in the 2D two-phase thermal
+//!   integrated with (over the contact zone in the two-phase thermal
 //!   phase); and the field data `contact_force` `Σ ⟨N^I⟩ pN^I` (the normal
 //!   contact force; N/m in 2D, N in 3D) and `interface_heat_flow`
 //!   `Σ ⟨N^I⟩ h0^I` (thermal lumped areas; the heat flow into the slave,
@@ -33,7 +33,11 @@
 //!   the face's basis, `v(ξ) = Σ_I R^I(ξ) v^I`: so `∫ pN dA` over the
 //!   reference slave surface is `Σ ⟨N^I⟩ pN^I` (the cells give it to their
 //!   sampling error; the point values of `lumped_area` are interpolated
-//!   nodal areas, not a density);
+//!   nodal areas, not a density); `interface_heat_flux` likewise from each
+//!   node's heat flow per its whole lumped area, `h0^I ⟨N^I⟩_thermal /
+//!   ⟨N^I⟩`, so that its integral is the heat flow also where the thermal
+//!   phase integrates over the contact zone (a flux density spread over
+//!   the supports, as the pressure, not the zone's own);
 //!
 //! every file with the field data `applied_pressure` `p̄N` (Pa),
 //! `applied_flux` `|h̄|` (W/m²), `contact_temperature` `θ̄c` (K),

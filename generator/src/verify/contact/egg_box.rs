@@ -14,16 +14,22 @@
 //!   full contact (both asymptotes, not exact: their own error grows away
 //!   from their end, see the module doc there);
 //! - **Barber's analogy** `C = (k_s/E*) K`, `K = −dp̄/dḡ`, exact for
-//!   half-spaces with perfectly conducting contact spots: the computed
-//!   conductance `|h̄|/jump` (two-phase, augmented-Lagrangian constraint)
-//!   against `k/E*` times the computed mean-gap stiffness, from a second
-//!   solve at `1.01 p̄` (a one-sided difference: the stiffness varies
-//!   smoothly);
+//!   half-spaces with perfectly conducting contact spots, and for the
+//!   discrete problem when the thermal constraint holds on the mechanical
+//!   active set: the conductance `|h̄|/jump` (the thermal phase on the
+//!   nodal supports, the 3D default; two-phase, augmented-Lagrangian
+//!   constraint) against `k/E*` times the computed
+//!   mean-gap stiffness, from a second solve at `1.01 p̄` (a one-sided
+//!   difference: the stiffness varies smoothly). This checks the thermal
+//!   and mechanical discretizations against each other, not the mesh: the
+//!   discrete stiffness itself is off the boundary elements' by ±10–20 %
+//!   on the default sample;
 //! - an **independent boundary-element solution** (tamaas 2.9.0,
 //!   `scripts/tamaas_egg_box.py`, 1024² points on the exact surface, data
 //!   `generator/tests/data/egg_box_tamaas.csv` compiled in): contact
-//!   fraction, mean gap and Barber's conductance of its stiffness at the
-//!   same pressures (the script's docstring states its grid convergence:
+//!   fraction, mean gap, gap distribution and Barber's conductance of its
+//!   stiffness against the conductance, on the nodal supports and on the
+//!   contact zone (`thermal_zone = true`), at the same pressures (the script's docstring states its grid convergence:
 //!   contact fraction within about 0.1–0.3 %, mean gap 0.005 %, stiffness
 //!   0.1 %). The asymptotes are 9 % (Hertz, 0.05 p*), 14 % (0.1 p*) and
 //!   3 % (penny gaps, 0.9 p*) from it; the one-sided step above biases the
@@ -33,9 +39,10 @@
 //! Modelling error: finite strains `~p/E* < 1 %`, the surface deviates from
 //! the plane by `Δ`, and the heights `H = λ` add corrections `~e^(−2√2πH/λ)`.
 //! The discretization error dominates at low pressure, where a contact spot
-//! spans a few elements: the nodal active set places the spot edge about
-//! half an element inside (issue 11), so the area there converges at first
-//! order.
+//! spans a few elements: the contact fraction (edges fitted to the point
+//! gaps, `contact::mortar`) converges from below at an order of about 1.5
+//! with the surface element size; the conductances are within 10–20 % on
+//! the default sample (docs/3d.md).
 
 use crate::Result;
 use crate::analytical::egg_box;
@@ -120,8 +127,12 @@ pub struct EggBoxRow {
     pub ratio: f64,
     /// Computed contact fraction.
     pub contact_fraction: f64,
-    /// Conductance `|h̄|/jump` (W/(m²K)).
+    /// Conductance `|h̄|/jump` (W/(m²K)), the thermal constraint on the
+    /// nodal supports of the mechanical active set (the 3D default).
     pub conductance: f64,
+    /// The same with the thermal phase on the contact zone
+    /// (`[contact] thermal_zone = true`), on the same mechanical state.
+    pub conductance_zone: f64,
     /// Mean-gap stiffness `K = −dp̄/dḡ` (Pa/m).
     pub stiffness: f64,
     /// Mean gap (m).
@@ -203,15 +214,24 @@ impl EggBoxSample {
         let mut solver = PathSolver::new(&case)?;
         let mut out: Vec<PointResult> = Vec::new();
         let mut below = Vec::new();
+        let mut zone = Vec::new();
         for (k, &p) in pressures.iter().enumerate() {
             out.push(solver.solve_pressure(p)?);
             if k % 2 == 0 {
                 // The gap distribution of the mechanical state at p.
                 solver.model.prepare_contact()?;
-                let c = solver.model.contact.as_ref().expect("a contact interface");
+                let c = solver.model.contact.as_mut().expect("a contact interface");
                 let length = solver.model.scales.length;
                 let levels = GAP_LEVELS.map(|x| x * 2.0 * RMS / length);
                 below.push(<[f64; 2]>::try_from(c.gap_fractions(&levels)).expect("two levels"));
+                // The contact zone's thermal phase at the same pressure
+                // (the mechanical phase restarts converged).
+                c.settings.thermal_zone = Some(true);
+                let z = solver.solve_pressure(p);
+                if let Some(c) = solver.model.contact.as_mut() {
+                    c.settings.thermal_zone = None;
+                }
+                zone.push(z?.conductance);
             }
         }
         let mut rows = Vec::new();
@@ -227,6 +247,7 @@ impl EggBoxSample {
                 ratio,
                 contact_fraction: a.interface.contact_fraction,
                 conductance: a.conductance,
+                conductance_zone: zone[k],
                 stiffness: -(b.pressure - a.pressure) / dg,
                 mean_gap: a.interface.mean_gap,
                 gap_below: below[k],
@@ -244,45 +265,52 @@ pub fn egg_box_checks(name: &str, rows: &[EggBoxRow], tol: EggBoxTolerances) -> 
     let bem = bem_reference();
     for r in rows {
         if let Some(b) = bem.iter().find(|b| (b.ratio - r.ratio).abs() < 1e-9) {
-            v.push(Check::relative(
-                name,
-                &format!("{:.2} p*: contact fraction vs BEM (tamaas)", r.ratio),
+            // (quantity, computed, reference, tolerance); near full contact
+            // the mean gap is 0.07 % of `Δ` and the gap distribution nearly
+            // 1: not checked there.
+            let below_half = r.ratio < 0.5;
+            let mut against = vec![(
+                "contact fraction vs BEM (tamaas)".to_string(),
                 r.contact_fraction,
                 b.contact_fraction,
                 tol.bem_contact,
-            ));
-            // Near full contact the mean gap is 0.07 % of `Δ`: not checked.
-            if r.ratio < 0.5 {
-                v.push(Check::relative(
-                    name,
-                    &format!("{:.2} p*: mean gap vs BEM (m)", r.ratio),
+            )];
+            if below_half {
+                against.push((
+                    "mean gap vs BEM (m)".into(),
                     r.mean_gap,
                     b.mean_gap,
                     tol.bem_gap,
                 ));
-            }
-            if r.ratio < 0.5 {
                 for (k, level) in GAP_LEVELS.iter().enumerate() {
-                    v.push(Check::relative(
-                        name,
-                        &format!("{:.2} p*: area with gap <= {level} Δ vs BEM", r.ratio),
+                    against.push((
+                        format!("area with gap <= {level} Δ vs BEM"),
                         r.gap_below[k],
                         b.gap_below[k],
                         tol.bem_gap_distribution,
                     ));
                 }
             }
-            v.push(Check::relative(
-                name,
-                &format!("{:.2} p*: conductance vs BEM's Barber", r.ratio),
+            against.push((
+                "conductance vs BEM's Barber".into(),
                 r.conductance,
                 b.barber_conductance,
-                if r.ratio < 0.5 {
+                if below_half {
                     tol.bem_conductance
                 } else {
                     tol.bem_conductance_near_full
                 },
             ));
+            against.push((
+                "zone's conductance vs BEM's Barber".into(),
+                r.conductance_zone,
+                b.barber_conductance,
+                tol.bem_zone_conductance,
+            ));
+            for (what, computed, reference, t) in against {
+                let quantity = format!("{:.2} p*: {what}", r.ratio);
+                v.push(Check::relative(name, &quantity, computed, reference, t));
+            }
         }
         if r.ratio <= 0.1 {
             v.push(Check::relative(
@@ -324,7 +352,8 @@ pub struct EggBoxTolerances {
     pub hertz: f64,
     /// Non-contact fraction vs the penny-gap asymptote (`p̄ ≥ 0.85 p*`).
     pub near_full: f64,
-    /// Conductance vs Barber's analogy below `p*/2`.
+    /// Conductance vs Barber's analogy of the computed stiffness below
+    /// `p*/2`.
     pub barber: f64,
     /// The same from `p*/2` on (a tiny jump; the stiffness of a nearly
     /// closed interface is resolved by few elements).
@@ -341,6 +370,9 @@ pub struct EggBoxTolerances {
     pub bem_conductance: f64,
     /// The same from `p*/2` on.
     pub bem_conductance_near_full: f64,
+    /// The contact zone's conductance (`thermal_zone = true`) vs Barber's
+    /// analogy of the boundary-element stiffness.
+    pub bem_zone_conductance: f64,
 }
 
 /// The pressure ratios of the catalogue case.
@@ -353,12 +385,13 @@ pub const RATIOS: [f64; 4] = [0.05, 0.1, 0.3, 0.9];
 /// area with a gap of at most 0.05 Δ / 0.1 Δ −7.6 / −5.2, −4.9 / −2.8,
 /// −1.9 / −0.4 % and
 /// mean gap +0.9, +1.1, +1.0 % at 0.05, 0.1, 0.3, 0.9 p*, conductance
-/// against Barber's analogy of its stiffness +19.5, −10.1, +20.3, −57 %;
-/// contact fraction −22 % (0.05 p*) and −2.9 % (0.1 p*) from the Hertz
-/// asymptote, non-contact fraction +27 % from the penny gaps at 0.9 p*,
-/// conductance within 1.2, 2.3, 0.4 and 7.9 % of Barber's analogy of the
-/// computed stiffness. The small spots (radius 2–3 elements) are
-/// mesh-bound (docs/3d.md).
+/// against Barber's analogy of its stiffness +19.5, −10.1, +20.3, −57 %
+/// (the contact zone's, stop 24: −12.6, −17.1, −5.9, −16.9 %); contact
+/// fraction −22 % (0.05 p*) and −2.9 % (0.1 p*) from the Hertz asymptote,
+/// non-contact fraction +27 % from the penny gaps at 0.9 p*, conductance
+/// within 1.2, 2.3, 0.4 and 7.9 % of Barber's analogy of the computed
+/// stiffness (the discrete problem's own analogy). The small spots
+/// (radius 2–3 elements) are mesh-bound (docs/3d.md).
 pub const DEFAULT_TOLERANCES: EggBoxTolerances = EggBoxTolerances {
     hertz: 0.25,
     near_full: 0.35,
@@ -369,6 +402,7 @@ pub const DEFAULT_TOLERANCES: EggBoxTolerances = EggBoxTolerances {
     bem_gap_distribution: 0.1,
     bem_conductance: 0.25,
     bem_conductance_near_full: 0.65,
+    bem_zone_conductance: 0.2,
 };
 
 #[cfg(test)]

@@ -312,7 +312,7 @@ impl ThermalModel {
         ContactSettings {
             thermal,
             thermal_method: self.method,
-            thermal_zone: false,
+            thermal_zone: Some(false),
             ..ContactSettings::default()
         }
     }

@@ -290,7 +290,7 @@ impl Hertz3dSetup {
 fn settings(mechanical_penalty: Option<f64>) -> ContactSettings {
     ContactSettings {
         thermal: ThermalContact::default(),
-        thermal_zone: false,
+        thermal_zone: Some(false),
         mechanical_penalty,
         ..ContactSettings::default()
     }
