@@ -1147,30 +1147,21 @@ impl ContactInterface {
 
     /// The thermal points of the 3D contact zone of `level` (nodal
     /// indicator values `p`, configuration `state`): a slave element whose
-    /// [`ZONE_CELLS`]² sub-cell centres all lie in the zone keeps its Gauss
-    /// rule; one with some in it gets the midpoint rule on those sub-cells
-    /// (the zone's edge, fitted to the near-edge asymptotics (`edge3d`), to
-    /// a sub-cell); and, as in 2D, an element holding a node in contact
-    /// whose support the zone does not reach keeps its Gauss rule.
+    /// [`ZONE_CELLS`]² sub-cell centres all lie in the zone keeps its
+    /// (mechanical) Gauss points; one with some in it gets the midpoint rule
+    /// on those sub-cells (the zone's edge, fitted to the near-edge
+    /// asymptotics (`edge3d`), to a sub-cell); and, as in 2D, an element
+    /// holding a node in contact whose support the zone does not reach
+    /// keeps its Gauss points. Called on the mechanical points (after
+    /// [`ContactInterface::thaw`]).
     fn zone_points_3d(
         &self,
         p: &[f64],
         level: &edge3d::ContactLevel3d,
         state: &[f64],
     ) -> Vec<SlavePoint> {
-        let face = Arc::clone(&self.slave_face);
-        let els = face.elements();
+        let els = self.slave_face.elements();
         let n = ZONE_CELLS;
-        let rule = GaussLegendre::new(self.settings.interface_points);
-        let gauss = |lo: [f64; 2], hi: [f64; 2]| -> Vec<([f64; 2], f64)> {
-            let (r0, r1): (Vec<_>, Vec<_>) = (
-                rule.on_interval(lo[0], hi[0]).collect(),
-                rule.on_interval(lo[1], hi[1]).collect(),
-            );
-            r1.iter()
-                .flat_map(|&(y, wy)| r0.iter().map(move |&(x, wx)| ([x, y], wx * wy)))
-                .collect()
-        };
         // Per element: the sub-cells in the zone (parameters, parametric area).
         let mut inside: Vec<Vec<([f64; 2], f64)>> = vec![Vec::new(); els.len()];
         level.visit_cells(self, state, n, |e, xi, _, is_in| {
@@ -1186,18 +1177,26 @@ impl ContactInterface {
             .filter(|(_, c)| !c.is_empty())
             .flat_map(|(e, _)| els[e].functions.iter().copied())
             .collect();
-        let mut points = Vec::new();
-        for (e, el) in els.iter().enumerate() {
-            let whole = inside[e].len() == n * n
-                || el
-                    .functions
-                    .iter()
-                    .any(|&i| p[i] > 0.0 && !reached.contains(&i));
-            let (lo, hi) = ([el.lower[0], el.lower[1]], [el.upper[0], el.upper[1]]);
-            if whole {
-                cell_points(&face, e, gauss(lo, hi), &mut points);
-            } else if !inside[e].is_empty() {
-                cell_points(&face, e, inside[e].iter().copied(), &mut points);
+        let whole: Vec<bool> = els
+            .iter()
+            .zip(&inside)
+            .map(|(el, cells)| {
+                cells.len() == n * n
+                    || el
+                        .functions
+                        .iter()
+                        .any(|&i| p[i] > 0.0 && !reached.contains(&i))
+            })
+            .collect();
+        let mut points: Vec<SlavePoint> = self
+            .points
+            .iter()
+            .filter(|q| whole[q.element])
+            .cloned()
+            .collect();
+        for (e, cells) in inside.iter().enumerate() {
+            if !whole[e] && !cells.is_empty() {
+                cell_points(&self.slave_face, e, cells.iter().copied(), &mut points);
             }
         }
         points

@@ -165,9 +165,10 @@ impl Cells {
     /// and its jump is the matched pair's within 2 % (1e−4 of the LN jump).
     ///
     /// 3D (6 × 6 / 5 × 5 elements; long runs 8 × 8 / 7 × 7): on symmetric
-    /// cells PR and LN differ by 5.3e−6 (1.3e−5) of the jump of the egg box
-    /// on a flat (0 on 4 × 4 / 3 × 3), the matched egg boxes by less than
-    /// 1e−12 (8.6e−8: 1.4e−6 K of 4.5e−3 K, 3e−4 relatively): within 5e−5;
+    /// cells the PR and LN jumps agree to the digits of
+    /// `docs/validation/checks.md` on the default mesh (9.227361 K on a flat,
+    /// 9.596988e−3 K matched; earlier meshes and seams differed by 5.3e−6
+    /// (1.3e−5) of the jump on a flat and 8.6e−8 matched): within 5e−5;
     /// their contact fractions agree to the last digit (stop 24; before,
     /// the 3D edge check counted samples off an LN face as keeping their
     /// sign and fitted the spots cut by the face: 0.033 against 0.015 at
