@@ -1208,10 +1208,7 @@ pub fn egg_box_bench(interface_levels: usize) -> Result<(usize, PhaseCost, Vec<E
 
 /// Peak resident memory of this process (bytes; Linux `VmHWM`), if known.
 pub fn peak_resident_bytes() -> Option<u64> {
-    let s = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = s.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024)
+    crate::solve::resources::process_memory("VmHWM:")
 }
 
 /// The egg-box benchmark as text.

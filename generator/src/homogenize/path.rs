@@ -499,6 +499,11 @@ impl<'a> PathSolver<'a> {
             next.capture = self.capture;
             next.model.set_symmetric_solvers(src.symmetric_solvers());
             transfer_state(src, &mut next.model);
+            // The previous level's factors are not needed while this one
+            // solves (re-analysed should it be kept after a failure).
+            if let Some(f) = fine.as_mut() {
+                f.newton.release_solvers();
+            }
             next.last_pressure = pressure;
             let solved = match next.solve_fluxes_on_mesh(pressure, fluxes, true) {
                 Ok(r) if r.iter().all(|r| r.converged) => r,

@@ -190,6 +190,14 @@ impl Newton {
         }
     }
 
+    /// Frees the kept solvers (their factors and workspaces): the next
+    /// iteration analyses its pattern anew. For a problem set aside while a
+    /// larger one is solved (the previous level of adaptive refinement).
+    pub fn release_solvers(&mut self) {
+        self.solvers = Vec::new();
+        self.version = None;
+    }
+
     /// Symbolic analyses (ordering and factor structure) performed so far:
     /// one per new pattern and factorization kind.
     pub fn analyses(&self) -> usize {
@@ -245,6 +253,20 @@ impl Newton {
                     None => {
                         let ordering = p.ordering(&kind);
                         let solver = LinearSolver::new(p.pattern(), kind, ordering)?;
+                        if std::env::var_os("TCGEN_TRACE").is_some() {
+                            eprintln!(
+                                "  analysis: {}, {} equations, {} entries, factor {:?} entries ({} MB resident)",
+                                match solver.kind() {
+                                    Factorization::Lu => "LU",
+                                    Factorization::Cholesky => "Cholesky",
+                                    Factorization::Ldlt { .. } => "LDLT",
+                                },
+                                solver.n_eq(),
+                                p.pattern().row_idx().len(),
+                                solver.factor_nnz(),
+                                super::resources::process_memory("VmRSS:").unwrap_or(0) >> 20
+                            );
+                        }
                         self.analyses += 1;
                         self.solvers.insert(0, solver);
                         self.solvers.truncate(KEPT_SOLVERS);
@@ -264,7 +286,11 @@ impl Newton {
                 linear_fallback: None,
             });
             if std::env::var_os("TCGEN_TRACE").is_some() {
-                eprintln!("  step {step} λ={load_factor:.4} it {it}: {norms:?}");
+                let rss = super::resources::process_memory("VmRSS:").unwrap_or(0);
+                eprintln!(
+                    "  step {step} λ={load_factor:.4} it {it}: {norms:?} ({} MB resident)",
+                    rss >> 20
+                );
             }
             let reference = first.get_or_insert_with(|| {
                 let loads = p.load_norms();

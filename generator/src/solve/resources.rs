@@ -99,6 +99,16 @@ pub fn estimate(case: &Case) -> ResourceEstimate {
     }
 }
 
+/// A memory figure of this process from Linux's `/proc/self/status`
+/// (bytes; `key` e.g. `"VmRSS:"` resident now, `"VmHWM:"` peak resident),
+/// if known.
+pub fn process_memory(key: &str) -> Option<u64> {
+    let s = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = s.lines().find(|l| l.starts_with(key))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
 /// Bytes of memory this process may use: `TCGEN_MEMORY_LIMIT` (bytes, or
 /// with a suffix K, M, G, T, powers of 1024) if set, else the available
 /// memory of the machine (`MemAvailable` in `/proc/meminfo`); `None` where
