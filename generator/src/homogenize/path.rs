@@ -327,6 +327,17 @@ impl<'a> PathSolver<'a> {
         }
     }
 
+    /// The plain two-phase jump (K) of a thermal phase alone on the solved
+    /// mechanical state at `pressure` (the last [`PathSolver::solve_pressure`]),
+    /// properties frozen at θ̄c, at the case's flux: e.g. another thermal
+    /// contact model on the same mechanical solution, without solving it
+    /// again.
+    pub fn thermal_phase_jump(&mut self, pressure: f64) -> Result<f64> {
+        let theta_c = self.case.load.contact_temperature;
+        let phase = self.thermal_phase(pressure, [theta_c, theta_c], self.case.load.flux)?;
+        Ok(self.identify(phase.theta_s, &phase.abp))
+    }
+
     /// Solves the next pressure of the path at the case's flux.
     pub fn solve_pressure(&mut self, pressure: f64) -> Result<PointResult> {
         let flux = self.case.load.flux;

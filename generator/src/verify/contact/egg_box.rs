@@ -224,14 +224,13 @@ impl EggBoxSample {
                 let length = solver.model.scales.length;
                 let levels = GAP_LEVELS.map(|x| x * 2.0 * RMS / length);
                 below.push(<[f64; 2]>::try_from(c.gap_fractions(&levels)).expect("two levels"));
-                // The contact zone's thermal phase at the same pressure
-                // (the mechanical phase restarts converged).
+                // The contact zone's thermal phase on the same mechanical state.
                 c.settings.thermal_zone = Some(true);
-                let z = solver.solve_pressure(p);
+                let z = solver.thermal_phase_jump(p);
                 if let Some(c) = solver.model.contact.as_mut() {
                     c.settings.thermal_zone = None;
                 }
-                zone.push(z?.conductance);
+                zone.push(case.load.flux / z?);
             }
         }
         let mut rows = Vec::new();
