@@ -651,8 +651,8 @@ impl ContactInterface {
     /// The derivatives are evaluated only where the contact elements use
     /// them: at the points of the nodes in contact (their terms; the
     /// others' multiplier rows need the weighted gap only), found from the
-    /// values at every point first. At 35 % contact this halves the points
-    /// whose second derivatives are formed and stored.
+    /// values at every point first (the points of the nodes out of contact
+    /// keep values only: memory and time where little is in contact).
     fn prepare_3d(
         &mut self,
         state: &[f64],
