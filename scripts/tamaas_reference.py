@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """Independent boundary-element reference for a random profile (issue 11 item 7).
 
-Frictionless periodic contact of the fitted upper surface of
-generator/tests/data/random_profile.toml against the flat lower body, in the
+Frictionless periodic contact of the upper surface of
+generator/tests/data/random_profile.toml (the exact profile, which the adaptive
+solve resolves on its refined levels; not the case mesh's fit) against the
+flat lower body, in the
 small-strain limit, by tamaas (PyPI, `model_type.basic_1d`, Polonsky-Keer-Rey):
 a rigid profile on an elastic half-space of plane-strain modulus
 E* = 1/(2(1 - nu^2)/E) (both bodies deformable, equal). For each pressure it
@@ -50,7 +52,7 @@ def main():
     src, out = sys.argv[1], sys.argv[2]
     data = np.genfromtxt(src, delimiter=",", names=True, comments="#")
     # The upper body comes down onto the flat: its valleys are the indenter's peaks.
-    surface = -(data["upper_fit"] - data["lower_fit"])
+    surface = -(data["upper"] - data["lower"])
     surface -= surface.mean()
     e_star = 1.0 / (2.0 * (1.0 - NU**2) / E)
     rows = []
@@ -66,8 +68,8 @@ def main():
     with open(out, "w") as f:
         f.write(f"# tamaas {tm.__version__} basic_1d PolonskyKeerRey, {surface.size} points over "
                 f"{WIDTH} m, E* = {e_star:.6e} Pa, k = {K_THERMAL} W/(m K)\n")
-        # The profile's identity, checked by the test against the case's fit.
-        f.write(f"# profile_rms = {surface.std():.9e}\n# profile_lowest = {data['upper_fit'].min():.9e}\n")
+        # The profile's identity, checked by the test against the case's surface.
+        f.write(f"# profile_rms = {surface.std():.9e}\n# profile_lowest = {data['upper'].min():.9e}\n")
         f.write("pressure,contact_fraction,mean_gap,stiffness,barber_conductance\n")
         for p, fr, g, s, c, _ in rows:
             f.write(f"{p:.6e},{fr:.8e},{g:.8e},{s:.8e},{c:.8e}\n")

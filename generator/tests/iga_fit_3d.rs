@@ -150,3 +150,61 @@ fn rough_volumes_of_both_bodies() {
     let e = try_rough_volume(&fit, 0.0, 1e-6, RoughFace::Bottom, 2, 4).unwrap_err();
     assert!(e.to_string().contains("not strictly below"), "{e}");
 }
+
+/// Refined rough volumes resolve the surface instead of keeping the case
+/// mesh's fit (`resolve_rough_face`): refined uniformly at the rough face, the
+/// face's height error falls at the order `p + 1` of the finer level, while
+/// the lateral map, the flat face and the periodic seams stay as they were.
+#[test]
+fn refined_rough_volumes_resolve_the_surface() {
+    use tcgen::geometry::{Side, ThbPatch, resolve_rough_face};
+    let s = egg_box();
+    let f = |x: f64, y: f64| s.height(x, y);
+    let (height, z_shift) = (7e-6, 2e-6);
+    let fit = fit_height_map(&f, W, 2, [6, 6]).unwrap();
+    let block = try_rough_volume(&fit, z_shift, height + z_shift, RoughFace::Bottom, 2, 3).unwrap();
+    let coarse = ThbPatch::from_nurbs(&block).periodic(0).periodic(1);
+    let face_error = |patch: &ThbPatch| {
+        let mut worst = 0.0f64;
+        for k in 0..=48 {
+            for l in 0..=48 {
+                let (u, v) = (k as f64 / 48.0, l as f64 / 48.0);
+                let p = patch.point(&[u, v, 0.0]);
+                assert!((p[0] - W * u).abs() < 1e-18 && (p[1] - W * v).abs() < 1e-18);
+                let q = patch.point(&[u, v, 1.0]);
+                assert!(
+                    (q[2] - height - z_shift).abs() < 1e-18,
+                    "flat face moved: {q:?}"
+                );
+                worst = worst.max((p[2] - f(p[0], p[1]) - z_shift).abs());
+            }
+        }
+        worst
+    };
+    let fit_error = face_error(&coarse);
+    let mut errors = Vec::new();
+    for levels in 1..=3 {
+        let refined = coarse.refined_at_face(2, Side::Low, levels);
+        let resolved = resolve_rough_face(&refined, RoughFace::Bottom, z_shift, f).unwrap();
+        errors.push(face_error(&resolved));
+        // The seams: the face's heights at u = 0 and u = 1 (v = 0 and 1) agree.
+        for k in 0..=20 {
+            let t = k as f64 / 20.0;
+            for (a, b) in [([0.0, t], [1.0, t]), ([t, 0.0], [t, 1.0])] {
+                let (pa, pb) = (
+                    resolved.point(&[a[0], a[1], 0.0]),
+                    resolved.point(&[b[0], b[1], 0.0]),
+                );
+                assert!((pa[2] - pb[2]).abs() < 1e-20, "seam: {pa:?} {pb:?}");
+            }
+        }
+    }
+    let rate = (errors[1] / errors[2]).log2();
+    println!("fit error {fit_error:e}; resolved on 1, 2, 3 levels: {errors:?}, rate {rate:.2}");
+    assert!(errors[0] < fit_error, "{errors:?} vs the fit's {fit_error}");
+    assert!(rate > 2.5, "rate {rate}: {errors:?}");
+    // An unrefined block is moved onto the quasi-interpolant of the surface:
+    // of the fit's order, not worse.
+    let same = resolve_rough_face(&coarse, RoughFace::Bottom, z_shift, f).unwrap();
+    assert!(face_error(&same) < 2.0 * fit_error);
+}

@@ -321,3 +321,62 @@ fn periodic_directions_have_matching_face_bases() {
         }
     }
 }
+
+/// `Σ_a c_a T_a(ξ)` in the polynomial THB functions.
+fn thb_sum(patch: &ThbPatch, c: &[f64], xi: &[f64]) -> f64 {
+    let (mut scratch, mut b) = (TensorBasis::default(), RationalBasis::default());
+    patch.thb_functions_into(patch.locate(xi), xi, 0, &mut scratch, &mut b);
+    b.indices
+        .iter()
+        .zip(&b.values)
+        .map(|(&a, &t)| c[a] * t)
+        .sum()
+}
+
+/// The hierarchical quasi-interpolant reproduces every function of the THB space
+/// (its coefficients are returned exactly) on randomly refined meshes, and
+/// approximates a smooth function at order `p + 1` under uniform refinement.
+#[test]
+fn quasi_interpolant_reproduces_the_space_and_converges() {
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    for (dim, p) in cases() {
+        let thb = random_refinement(&ThbPatch::from_nurbs(&base(dim, p, 2)), 3, &mut rng);
+        let c: Vec<f64> = (0..thb.n_control_points())
+            .map(|_| rng.random_range(-1.0..1.0))
+            .collect();
+        let q = thb.quasi_interpolate(|xi| thb_sum(&thb, &c, &xi[..dim]));
+        let worst = c
+            .iter()
+            .zip(&q)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            worst < 1e-11,
+            "dim {dim} p {p}: coefficients off by {worst:e}"
+        );
+    }
+    // Order p + 1 for g = sin(3ξ + 1) cos(2η) on uniformly refined 2D meshes.
+    let g = |xi: [f64; 3]| (3.0 * xi[0] + 1.0).sin() * (2.0 * xi[1]).cos();
+    for p in 1..=3 {
+        let mut thb = ThbPatch::from_nurbs(&base(2, p, 2));
+        let mut errors = Vec::new();
+        for _ in 0..4 {
+            let q = thb.quasi_interpolate(g);
+            let mut worst = 0.0f64;
+            for i in 0..=40 {
+                for j in 0..=40 {
+                    let xi = [i as f64 / 40.0, j as f64 / 40.0];
+                    worst = worst.max((thb_sum(&thb, &q, &xi) - g([xi[0], xi[1], 0.0])).abs());
+                }
+            }
+            errors.push(worst);
+            let cells: Vec<Cell> = thb.elements().iter().map(|e| e.cell).collect();
+            thb = thb.refined(&cells);
+        }
+        let rate = (errors[2] / errors[3]).log2();
+        assert!(
+            rate > p as f64 + 0.7,
+            "p {p}: errors {errors:?}, observed rate {rate:.2}"
+        );
+    }
+}

@@ -3,6 +3,7 @@
 //! blend between the fitted surface and the flat outer face; the fitting error is reported).
 #![allow(clippy::needless_range_loop)]
 
+use super::hierarchical::ThbPatch;
 use super::knots::KnotVector;
 use super::nurbs::{NurbsPatch, Side};
 use crate::basis::basis_ders;
@@ -293,6 +294,78 @@ fn blend_block(
     let mut knots = horizontal;
     knots.push(vertical);
     NurbsPatch::new(knots, points, weights)
+}
+
+/// The rough block `patch` (built by [`try_rough_block`] or [`try_rough_volume`] on
+/// `[0, W]`, possibly refined) with its rough face moved towards the surface
+/// `z = height(x, y) + z_shift` (`y` unused in 2D): the control points get the
+/// hierarchical quasi-interpolant ([`ThbPatch::quasi_interpolate`]) of the vertical
+/// correction `(height(x, y) + z_shift − z) r(ζ)`, `(x, y, z)` the patch's own rough
+/// face at the lateral parameters and `r` the block's linear blend (1 on the rough
+/// face, 0 on the flat one). The lateral map is kept. The block of the fit is a polynomial B-spline
+/// patch, so the new map is exactly the quasi-interpolant of the block between the
+/// surface and the flat face: where the patch is refined the face follows the surface
+/// at the order of the finer level (the fit's error does not survive refinement), and
+/// where it is not, at the order of the case's mesh.
+pub fn resolve_rough_face(
+    patch: &ThbPatch,
+    face: RoughFace,
+    z_shift: f64,
+    height: impl Fn(f64, f64) -> f64,
+) -> Result<ThbPatch> {
+    if patch.weights().iter().any(|&w| (w - 1.0).abs() > 1e-12) {
+        return Err(Error::Geometry(
+            "resolve_rough_face: a rough block is a polynomial B-spline patch (weights 1)".into(),
+        ));
+    }
+    let dim = patch.param_dim();
+    let vertical = dim - 1;
+    let face_param = match face {
+        RoughFace::Top => patch.knots()[vertical].last(),
+        RoughFace::Bottom => patch.knots()[vertical].first(),
+    };
+    // The correction on the rough face, per lateral parameter point (the
+    // quasi-interpolant asks each at several heights).
+    let memo = std::cell::RefCell::new(std::collections::HashMap::<[u64; 2], f64>::new());
+    let on_face = |u: f64, v: f64| -> f64 {
+        *memo
+            .borrow_mut()
+            .entry([u.to_bits(), v.to_bits()])
+            .or_insert_with(|| {
+                let mut xi = [u, v, 0.0];
+                xi[vertical] = face_param;
+                let x = patch.point(&xi[..dim]);
+                let y = if dim == 3 { x[1] } else { 0.0 };
+                height(x[0], y) + z_shift - x[vertical]
+            })
+    };
+    let (first, last) = (
+        patch.knots()[vertical].first(),
+        patch.knots()[vertical].last(),
+    );
+    let correction = patch.quasi_interpolate(|xi| {
+        let t = (xi[vertical] - first) / (last - first);
+        let r = match face {
+            RoughFace::Top => t,
+            RoughFace::Bottom => 1.0 - t,
+        };
+        if r == 0.0 {
+            return 0.0;
+        }
+        let v = if dim == 3 { xi[1] } else { 0.0 };
+        on_face(xi[0], v) * r
+    });
+    let points = patch
+        .control_points()
+        .iter()
+        .zip(&correction)
+        .map(|(x, dz)| {
+            let mut y = *x;
+            y[vertical] += dz;
+            y
+        })
+        .collect();
+    Ok(patch.with_control_points(points))
 }
 
 /// A fitted bivariate B-spline graph over the cell `[0, W]²` (3D samples):

@@ -21,8 +21,8 @@ pub mod refine;
 pub mod shapes;
 
 pub use fit::{
-    ArealFit, FitMethod, RoughFace, SurfaceFit, fit_height_function, fit_height_map, rough_block,
-    try_rough_block, try_rough_volume,
+    ArealFit, FitMethod, RoughFace, SurfaceFit, fit_height_function, fit_height_map,
+    resolve_rough_face, rough_block, try_rough_block, try_rough_volume,
 };
 pub use hierarchical::{Cell, HierarchicalMesh, ThbPatch};
 pub use knots::KnotVector;

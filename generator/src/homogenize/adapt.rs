@@ -126,7 +126,9 @@ pub fn mark_contact_edges(model: &Model, slave: usize) -> Result<Marks> {
     Ok(marks)
 }
 
-/// The bodies (SI units, as built for the model) with the marked cells refined.
+/// The bodies (SI units, as built for the model) with the marked cells refined
+/// (same geometry; [`Bodies::resolved`] then moves the refined faces onto the
+/// exact surfaces).
 pub fn refine_bodies(bodies: &Bodies, marks: &Marks) -> Bodies {
     Bodies {
         lower: bodies.lower.refined(&marks.lower),

@@ -14,7 +14,8 @@ use crate::material::Material;
 use crate::sample::case::{Case, MasterBody, Method};
 use crate::sample::micro::{
     Bodies, InterfaceMeasures, LOWER, SampleGeometry, ThermalBc, UPPER, build_model_on,
-    case_bodies, case_geometry, measure, place_at_first_touch, slave_body,
+    case_bodies, case_geometry, case_heights, exact_first_touch, measure, place_at_first_touch,
+    slave_body,
 };
 use crate::sample::vtk::{Fields, PointInfo, VtkSeries};
 use crate::solve::{Model, Newton, NonlinearProblem};
@@ -446,6 +447,8 @@ impl<'a> PathSolver<'a> {
 
     /// The adaptive loop at one pressure: from the solved case mesh (which
     /// stays on the path, for continuation), mark the contact edges, refine,
+    /// resolve the rough faces on the exact surfaces ([`Bodies::resolved`]:
+    /// the refined levels converge to the surface's jump, not to its fit's),
     /// carry the state over, solve again at the same loads; stop when every
     /// flux's [`two_level_estimate`] is below `target` times its jump (after
     /// at least [`MIN_ADAPTIVE_LEVELS`] levels, and where the zone's edges
@@ -487,6 +490,11 @@ impl<'a> PathSolver<'a> {
                 .is_some_and(|c| c.zone_edges_fitted(&m.state)))
         };
         let mut regime = fitted(&mut self.model)?.then_some(0);
+        // Refined levels resolve the rough faces on the exact surfaces (the
+        // case mesh keeps its fit), and their approach counts from the exact
+        // surfaces' first touch.
+        let heights = case_heights(case)?;
+        let touch_shift = exact_first_touch(case, &heights) - self.geometry.g0;
         let mut fine: Option<PathSolver<'a>> = None;
         for level in 1..=d.max_levels {
             let (src, src_bodies) = match fine.as_mut() {
@@ -496,7 +504,7 @@ impl<'a> PathSolver<'a> {
             // `src` is prepared at its solved state: by `fitted` above (the
             // case mesh) or below (the previous level).
             let marks = mark_contact_edges(src, slave)?;
-            let bodies = refine_bodies(src_bodies, &marks);
+            let bodies = refine_bodies(src_bodies, &marks).resolved(&heights, self.geometry.g0)?;
             let dofs = (src.dim + 1) * bodies.n_control_points();
             if dofs > d.max_dofs {
                 if trace {
@@ -599,6 +607,9 @@ impl<'a> PathSolver<'a> {
         // The fields of the mesh of `best`.
         if let Some(f) = fine.as_mut() {
             self.fields = f.fields.take();
+            for r in best.iter_mut() {
+                r.interface.approach += touch_shift;
+            }
         }
         for (i, r) in best.iter_mut().enumerate() {
             r.jump_error = estimate.as_ref().map(|e| e[i]);

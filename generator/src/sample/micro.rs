@@ -9,7 +9,7 @@
 //! prescribed temperature, the slave's external face under `h̄`.
 
 use crate::bulk::Coupling;
-use crate::geometry::fit::{ArealFit, fit_height_map, try_rough_volume};
+use crate::geometry::fit::{ArealFit, fit_height_map, resolve_rough_face, try_rough_volume};
 use crate::geometry::{
     FitMethod, NurbsPatch, RoughFace, Side, SurfaceFit, ThbPatch, fit_height_function,
     try_rough_block,
@@ -151,6 +151,43 @@ fn maximum_on_cell(f: impl Fn(f64, f64) -> f64, w: f64, n: usize) -> f64 {
     fb
 }
 
+/// The maximum of `f(x)` over `[0, W]`: the best of `n + 1` samples, refined
+/// by golden-section search around it.
+fn maximum_on_interval(f: impl Fn(f64) -> f64, w: f64, n: usize) -> f64 {
+    let (mut xb, mut gb) = (0.0, f64::NEG_INFINITY);
+    for i in 0..=n {
+        let x = w * i as f64 / n as f64;
+        let g = f(x);
+        if g > gb {
+            (xb, gb) = (x, g);
+        }
+    }
+    let (mut a, mut b) = ((xb - w / n as f64).max(0.0), (xb + w / n as f64).min(w));
+    let r = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..80 {
+        let (c, e) = (b - r * (b - a), a + r * (b - a));
+        if f(c) > f(e) { b = e } else { a = c }
+    }
+    gb.max(f(0.5 * (a + b)))
+}
+
+/// The first-touch offset `max (f2 − f1)` of the exact surfaces `heights =
+/// (f1, f2)` (the fits' is [`SampleGeometry::g0`]), searched as for the fits.
+pub fn exact_first_touch(case: &Case, heights: &(Height, Height)) -> f64 {
+    let (w, d) = (case.sample.width, &case.discretization);
+    let gap = |x: f64, y: f64| (heights.1)(x, y) - (heights.0)(x, y);
+    if case.dimension() == 3 {
+        let n = (0..2)
+            .flat_map(|a| [d.elements_upper.along(a), d.elements_lower.along(a)])
+            .max()
+            .unwrap_or(1);
+        maximum_on_cell(gap, w, 16 * (n + 1))
+    } else {
+        let n = 64 * (d.elements_upper.along(0).max(d.elements_lower.along(0)) + 1);
+        maximum_on_interval(|x| gap(x, 0.0), w, n)
+    }
+}
+
 /// Fits both surfaces at the discretization's resolution and finds `g0`.
 pub fn sample_geometry(case: &Case, upper: &dyn Surface, lower: &dyn Surface) -> SampleGeometry {
     let w = case.sample.width;
@@ -171,25 +208,9 @@ pub fn sample_geometry(case: &Case, upper: &dyn Surface, lower: &dyn Surface) ->
         d.elements_lower.along(0),
         FitMethod::Interpolation,
     );
-    // First touch: g0 = max (f2 − f1) over a dense sampling of the fitted curves,
-    // refined by golden-section search around the best sample.
+    // First touch: g0 = max (f2 − f1) of the fitted curves.
     let n = 64 * (d.elements_upper.along(0).max(d.elements_lower.along(0)) + 1);
-    let gap = |x: f64| fit_lower.height_at(x) - fit_upper.height_at(x);
-    let (mut xb, mut gb) = (0.0, f64::NEG_INFINITY);
-    for i in 0..=n {
-        let x = w * i as f64 / n as f64;
-        let g = gap(x);
-        if g > gb {
-            (xb, gb) = (x, g);
-        }
-    }
-    let (mut a, mut b) = ((xb - w / n as f64).max(0.0), (xb + w / n as f64).min(w));
-    let r = 0.5 * (5f64.sqrt() - 1.0);
-    for _ in 0..80 {
-        let (c, e) = (b - r * (b - a), a + r * (b - a));
-        if gap(c) > gap(e) { b = e } else { a = c }
-    }
-    let g0 = gb.max(gap(0.5 * (a + b)));
+    let g0 = maximum_on_interval(|x| fit_lower.height_at(x) - fit_upper.height_at(x), w, n);
     SampleGeometry {
         fit_upper: SampleFit::Profile(fit_upper),
         fit_lower: SampleFit::Profile(fit_lower),
@@ -235,6 +256,41 @@ impl Bodies {
     /// The finest refinement level of each body, `[lower, upper]`.
     pub fn levels(&self) -> [usize; 2] {
         [&self.lower, &self.upper].map(|b| b.mesh().n_levels() - 1)
+    }
+}
+
+/// A surface height `z = f(x, y)` (m; `y` unused in 2D).
+pub type Height = Box<dyn Fn(f64, f64) -> f64 + Send + Sync>;
+
+/// The exact heights of a case's surfaces, `(upper f1, lower f2)`: what the
+/// fits of [`SampleGeometry`] approximate at the case's resolution.
+pub fn case_heights(case: &Case) -> Result<(Height, Height)> {
+    if case.dimension() == 3 {
+        let (u, l) = case.areal_surfaces()?;
+        Ok((
+            Box::new(move |x, y| u.height(x, y)),
+            Box::new(move |x, y| l.height(x, y)),
+        ))
+    } else {
+        let (u, l) = case.surfaces()?;
+        Ok((
+            Box::new(move |x, _| u.height(x)),
+            Box::new(move |x, _| l.height(x)),
+        ))
+    }
+}
+
+impl Bodies {
+    /// The bodies with their rough faces resolved on the exact surfaces
+    /// `heights = (f1, f2)` ([`resolve_rough_face`]): the upper body's face
+    /// towards `z = f1 + g0`, the lower body's towards `z = f2`. Refined
+    /// regions follow the surfaces at their own resolution instead of keeping
+    /// the case mesh's fit.
+    pub fn resolved(&self, heights: &(Height, Height), g0: f64) -> Result<Bodies> {
+        Ok(Bodies {
+            lower: resolve_rough_face(&self.lower, RoughFace::Top, 0.0, &heights.1)?,
+            upper: resolve_rough_face(&self.upper, RoughFace::Bottom, g0, &heights.0)?,
+        })
     }
 }
 

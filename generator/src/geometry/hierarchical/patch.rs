@@ -207,6 +207,62 @@ impl ThbPatch {
         }
     }
 
+    /// A copy with the given control points (one per THB function; weights and mesh unchanged).
+    #[track_caller]
+    pub fn with_control_points(&self, points: Vec<[f64; 3]>) -> ThbPatch {
+        assert_eq!(
+            points.len(),
+            self.points.len(),
+            "ThbPatch::with_control_points: one point per function"
+        );
+        ThbPatch {
+            mesh: self.mesh.clone(),
+            basis: self.basis.clone(),
+            points,
+            weights: self.weights.clone(),
+        }
+    }
+
+    /// Coefficients (one per THB function, this patch's numbering) of the hierarchical
+    /// quasi-interpolant `Σ_a λ_a(g) T_a` of a scalar function `g` of the parameters, in
+    /// the polynomial THB functions `T_a`. The functional of a function of level `ℓ` and
+    /// multi-index `f` is the coefficient of the level-`ℓ` B-spline `f` in the interpolant
+    /// of `g` by the level-`ℓ` tensor B-splines of one *active* level-`ℓ` cell of its
+    /// support, at `p + 1` equally spaced points per direction (the cell's ends included).
+    /// On an active level-`ℓ` cell the level-`ℓ` B-spline coefficients of any function of
+    /// the truncated basis's span are its THB coefficients (Speleers & Manni 2016,
+    /// *Effortless quasi-interpolation in hierarchical spaces*), so the quasi-interpolant
+    /// reproduces the THB space exactly, is local, and approximates a smooth `g` at the
+    /// order of the finest level around each point. At a clamped end the end function's
+    /// coefficient is `g` there: opposite faces carrying the same values get the same
+    /// coefficients (periodic ties).
+    pub fn quasi_interpolate(&self, g: impl Fn([f64; 3]) -> f64) -> Vec<f64> {
+        let dim = self.param_dim();
+        let degrees = self.degrees();
+        let mut local: std::collections::HashMap<Cell, Vec<f64>> = Default::default();
+        (0..self.basis.n_functions())
+            .map(|a| {
+                let (l, f) = self.basis.function(a);
+                let range = self.mesh.support(l, f);
+                let cell = active_cell_in(&self.mesh, l, range).expect(
+                    "an active THB function has an active cell of its level in its support",
+                );
+                let spans = self.mesh.spans(cell);
+                let coefficients = local
+                    .entry(cell)
+                    .or_insert_with(|| local_interpolant(&self.mesh, cell, &degrees, &g));
+                // Local tensor index (first direction fastest) of `f` on the cell.
+                let mut at = 0;
+                let mut stride = 1;
+                for d in 0..dim {
+                    at += (f[d] + degrees[d] - spans[d]) * stride;
+                    stride *= degrees[d] + 1;
+                }
+                coefficients[at]
+            })
+            .collect()
+    }
+
     /// The rational THB functions nonzero on element `e` at `xi` (the element's polynomial
     /// pieces: its ends give one-sided limits) with parametric derivatives up to `n_ders ≤ 2`,
     /// into `out`; `scratch` holds the element's B-splines.
@@ -587,4 +643,89 @@ pub struct SeamPoint {
     pub weight: f64,
     /// The low side (`ξ_dir` at its first knot) and the high side (last knot).
     pub sides: [SeamSide; 2],
+}
+
+/// An active cell of level `l` in the ordinal ranges `range` (inclusive, per direction),
+/// the one nearest the middle of the ranges.
+fn active_cell_in(mesh: &HierarchicalMesh, l: usize, range: [(u32, u32); 3]) -> Option<Cell> {
+    let mut best: Option<(u64, Cell)> = None;
+    for k in range[2].0..=range[2].1 {
+        for j in range[1].0..=range[1].1 {
+            for i in range[0].0..=range[0].1 {
+                let cell = Cell {
+                    level: l,
+                    index: [i, j, k],
+                };
+                if !mesh.is_active(cell) {
+                    continue;
+                }
+                let distance: u64 = (0..3)
+                    .map(|d| {
+                        let twice_mid = u64::from(range[d].0) + u64::from(range[d].1);
+                        (2 * u64::from(cell.index[d])).abs_diff(twice_mid)
+                    })
+                    .sum();
+                if best.is_none_or(|(b, _)| distance < b) {
+                    best = Some((distance, cell));
+                }
+            }
+        }
+    }
+    best.map(|(_, c)| c)
+}
+
+/// The coefficients of the interpolant of `g` by the level's tensor B-splines nonzero on
+/// `cell` (first direction fastest), at `p + 1` equally spaced points per direction.
+fn local_interpolant(
+    mesh: &HierarchicalMesh,
+    cell: Cell,
+    degrees: &[usize],
+    g: &impl Fn([f64; 3]) -> f64,
+) -> Vec<f64> {
+    let dim = mesh.dim();
+    let level = mesh.level(cell.level);
+    let (lo, hi) = mesh.bounds(cell);
+    let spans = mesh.spans(cell);
+    let mut points: [Vec<f64>; 3] = Default::default();
+    let mut inverses: Vec<nalgebra::DMatrix<f64>> = Vec::with_capacity(dim);
+    for d in 0..dim {
+        let p = degrees[d];
+        let t: Vec<f64> = (0..=p)
+            .map(|i| lo[d] + (hi[d] - lo[d]) * i as f64 / p as f64)
+            .collect();
+        let m = nalgebra::DMatrix::from_fn(p + 1, p + 1, |i, j| {
+            crate::basis::basis_ders(&level.knots[d], spans[d], t[i], 0)[0][j]
+        });
+        inverses.push(
+            m.try_inverse()
+                .expect("B-splines of one span are unisolvent at distinct points of the span"),
+        );
+        points[d] = t;
+    }
+    for p in points.iter_mut().skip(dim) {
+        *p = vec![0.0];
+    }
+    // Values on the tensor grid, first direction fastest.
+    let mut c: Vec<f64> = Vec::new();
+    for &z in &points[2] {
+        for &y in &points[1] {
+            for &x in &points[0] {
+                c.push(g([x, y, z]));
+            }
+        }
+    }
+    // Mode products with the inverse collocation matrices, direction by direction.
+    let sizes: Vec<usize> = (0..3).map(|d| points[d].len()).collect();
+    for (d, inv) in inverses.iter().enumerate() {
+        let stride: usize = sizes[..d].iter().product();
+        let n = sizes[d];
+        let mut next = vec![0.0; c.len()];
+        for base in (0..c.len()).filter(|i| (i / stride).is_multiple_of(n)) {
+            for r in 0..n {
+                next[base + r * stride] = (0..n).map(|k| inv[(r, k)] * c[base + k * stride]).sum();
+            }
+        }
+        c = next;
+    }
+    c
 }
