@@ -302,11 +302,11 @@ fn blend_block(
 /// hierarchical quasi-interpolant ([`ThbPatch::quasi_interpolate`]) of the vertical
 /// correction `(height(x, y) + z_shift − z) r(ζ)`, `(x, y, z)` the patch's own rough
 /// face at the lateral parameters and `r` the block's linear blend (1 on the rough
-/// face, 0 on the flat one). The lateral map is kept. The block of the fit is a polynomial B-spline
-/// patch, so the new map is exactly the quasi-interpolant of the block between the
-/// surface and the flat face: where the patch is refined the face follows the surface
-/// at the order of the finer level (the fit's error does not survive refinement), and
-/// where it is not, at the order of the case's mesh.
+/// face, 0 on the flat one). The lateral map is kept. The block of the fit is a
+/// polynomial B-spline patch, so the new map is exactly the quasi-interpolant of the
+/// block between the surface and the flat face: where the patch is refined the face
+/// follows the surface at the order of the finer level (the fit's error does not
+/// survive refinement), and where it is not, at the order of the case's mesh.
 pub fn resolve_rough_face(
     patch: &ThbPatch,
     face: RoughFace,
