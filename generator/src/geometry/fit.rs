@@ -320,9 +320,13 @@ pub fn resolve_rough_face(
     }
     let dim = patch.param_dim();
     let vertical = dim - 1;
+    let (first, last) = (
+        patch.knots()[vertical].first(),
+        patch.knots()[vertical].last(),
+    );
     let face_param = match face {
-        RoughFace::Top => patch.knots()[vertical].last(),
-        RoughFace::Bottom => patch.knots()[vertical].first(),
+        RoughFace::Top => last,
+        RoughFace::Bottom => first,
     };
     // The correction on the rough face, per lateral parameter point (the
     // quasi-interpolant asks each at several heights).
@@ -339,10 +343,6 @@ pub fn resolve_rough_face(
                 height(x[0], y) + z_shift - x[vertical]
             })
     };
-    let (first, last) = (
-        patch.knots()[vertical].first(),
-        patch.knots()[vertical].last(),
-    );
     let correction = patch.quasi_interpolate(|xi| {
         let t = (xi[vertical] - first) / (last - first);
         let r = match face {

@@ -107,9 +107,9 @@ pub fn sample_geometry_3d(
     let fl = |x: f64, y: f64| lower.height(x, y);
     let fit_upper = fit_height_map(&fu, w, d.degree, nu)?;
     let fit_lower = fit_height_map(&fl, w, d.degree, nl)?;
-    let gap = |x: f64, y: f64| fit_lower.height_at(x, y) - fit_upper.height_at(x, y);
-    let n = 16 * (nu.into_iter().chain(nl).max().unwrap_or(1) + 1);
-    let g0 = maximum_on_cell(gap, w, n);
+    let g0 = first_touch(case, |x, y| {
+        fit_lower.height_at(x, y) - fit_upper.height_at(x, y)
+    });
     Ok(SampleGeometry {
         fit_upper: SampleFit::Areal(fit_upper),
         fit_lower: SampleFit::Areal(fit_lower),
@@ -174,17 +174,24 @@ fn maximum_on_interval(f: impl Fn(f64) -> f64, w: f64, n: usize) -> f64 {
 /// The first-touch offset `max (f2 − f1)` of the exact surfaces `heights =
 /// (f1, f2)` (the fits' is [`SampleGeometry::g0`]), searched as for the fits.
 pub fn exact_first_touch(case: &Case, heights: &(Height, Height)) -> f64 {
+    first_touch(case, |x, y| (heights.1)(x, y) - (heights.0)(x, y))
+}
+
+/// The maximum over the cell of a gap `f2 − f1` (`y` unused in 2D): on a grid
+/// finer than the case's elements (16 samples per element in 3D, 64 in 2D),
+/// refined by a compass search (3D) or golden-section search (2D).
+fn first_touch(case: &Case, gap: impl Fn(f64, f64) -> f64) -> f64 {
     let (w, d) = (case.sample.width, &case.discretization);
-    let gap = |x: f64, y: f64| (heights.1)(x, y) - (heights.0)(x, y);
-    if case.dimension() == 3 {
-        let n = (0..2)
-            .flat_map(|a| [d.elements_upper.along(a), d.elements_lower.along(a)])
-            .max()
-            .unwrap_or(1);
-        maximum_on_cell(gap, w, 16 * (n + 1))
+    let axes = case.dimension() - 1;
+    let n = (0..axes)
+        .flat_map(|a| [d.elements_upper.along(a), d.elements_lower.along(a)])
+        .max()
+        .unwrap_or(1)
+        + 1;
+    if axes == 2 {
+        maximum_on_cell(gap, w, 16 * n)
     } else {
-        let n = 64 * (d.elements_upper.along(0).max(d.elements_lower.along(0)) + 1);
-        maximum_on_interval(|x| gap(x, 0.0), w, n)
+        maximum_on_interval(|x| gap(x, 0.0), w, 64 * n)
     }
 }
 
@@ -208,9 +215,7 @@ pub fn sample_geometry(case: &Case, upper: &dyn Surface, lower: &dyn Surface) ->
         d.elements_lower.along(0),
         FitMethod::Interpolation,
     );
-    // First touch: g0 = max (f2 − f1) of the fitted curves.
-    let n = 64 * (d.elements_upper.along(0).max(d.elements_lower.along(0)) + 1);
-    let g0 = maximum_on_interval(|x| fit_lower.height_at(x) - fit_upper.height_at(x), w, n);
+    let g0 = first_touch(case, |x, _| fit_lower.height_at(x) - fit_upper.height_at(x));
     SampleGeometry {
         fit_upper: SampleFit::Profile(fit_upper),
         fit_lower: SampleFit::Profile(fit_lower),
