@@ -259,6 +259,23 @@ pub struct HomogenizationSection {
     pub tolerance: f64,
     /// Maximum self-consistency iterations.
     pub max_iterations: usize,
+    /// How the next slave temperature of the self-consistency iterations is chosen.
+    pub acceleration: Acceleration,
+}
+
+/// The update of the self-consistency iterations `ϑ̄c ← F(ϑ̄c)` (Sect. 3.3): `F`
+/// maps the jump that sets the slave's frozen temperature `θ̄c + ϑ̄c` to the jump
+/// identified by the next mechanical and thermal phases.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Acceleration {
+    /// The secant method on `F(ϑ) − ϑ` through the last two iterates (Aitken's Δ²
+    /// on the first two), falling back to the plain update where the secant slope
+    /// of `F` is not a contraction (`|F'| > 0.9`).
+    #[default]
+    Secant,
+    /// The paper's plain fixed-point iteration `ϑ̄c ← F(ϑ̄c)` (Fig. 14a).
+    None,
 }
 
 impl Default for HomogenizationSection {
@@ -268,6 +285,7 @@ impl Default for HomogenizationSection {
             master: MasterBody::Lower,
             tolerance: 1e-6,
             max_iterations: 20,
+            acceleration: Acceleration::default(),
         }
     }
 }

@@ -236,7 +236,9 @@ impl Newton {
             iterations,
             reason,
         };
+        let trace = std::env::var_os("TCGEN_TRACE").is_some();
         for it in 0..=self.settings.max_iterations {
+            let clock = std::time::Instant::now();
             p.prepare()?;
             let version = p.pattern_version();
             if self.version != Some(version) {
@@ -274,9 +276,12 @@ impl Newton {
                 }
                 self.version = Some(version);
             }
-            let nnz = p.pattern().row_idx().len();
-            let mut values = vec![0.0; nnz];
-            p.assemble(Some(&mut values), &mut r)?;
+            let prepared = clock.elapsed().as_secs_f64();
+            // The residual first: the tangent is assembled only if the
+            // iteration goes on (the last iteration of every solve only checks
+            // convergence, and in 3D the tangent costs several residuals).
+            p.assemble(None, &mut r)?;
+            let assembled = clock.elapsed().as_secs_f64();
             let norms = Self::field_norms(p, &r);
             if norms.iter().any(|v| !v.is_finite()) {
                 return Err(fail(it, "non-finite residual".into()));
@@ -318,6 +323,10 @@ impl Newton {
                     format!("residual grew to {total:.3e} from {total_ref:.3e}"),
                 ));
             }
+            let nnz = p.pattern().row_idx().len();
+            let mut values = vec![0.0; nnz];
+            p.assemble(Some(&mut values), &mut r)?;
+            let tangent = clock.elapsed().as_secs_f64();
             let solver = &mut self.solvers[0];
             solver
                 .factorize(&values)
@@ -326,6 +335,14 @@ impl Newton {
             solver
                 .solve_in_place(&mut r)
                 .map_err(|e| fail(it, e.to_string()))?;
+            if trace {
+                eprintln!(
+                    "  step {step} it {it}: prepare {prepared:.2} s, residual {:.2} s, tangent {:.2} s, factorize and solve {:.2} s",
+                    assembled - prepared,
+                    tangent - assembled,
+                    clock.elapsed().as_secs_f64() - tangent
+                );
+            }
             if let Some(reason) = solver.fallback() {
                 self.linear_fallbacks += 1;
                 if std::env::var_os("TCGEN_TRACE").is_some() {
