@@ -253,9 +253,16 @@ impl Newton {
                         self.solvers.insert(0, kept);
                     }
                     None => {
+                        let ordered = clock.elapsed().as_secs_f64();
                         let ordering = p.ordering(&kind);
+                        let analysed = clock.elapsed().as_secs_f64();
                         let solver = LinearSolver::new(p.pattern(), kind, ordering)?;
-                        if std::env::var_os("TCGEN_TRACE").is_some() {
+                        if trace {
+                            eprintln!(
+                                "  analysis: prepare {ordered:.2} s, ordering {:.2} s, symbolic {:.2} s",
+                                analysed - ordered,
+                                clock.elapsed().as_secs_f64() - analysed
+                            );
                             eprintln!(
                                 "  analysis: {}, {} equations, {} entries, factor {:?} entries ({} MB resident)",
                                 match solver.kind() {
