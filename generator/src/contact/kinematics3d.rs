@@ -886,6 +886,7 @@ mod tests {
             let s = MasterSurface {
                 face: &self.face,
                 points: &cur,
+                pieces: None,
             };
             let search = MasterSearch::new(&s, self.periods);
             let mut pr = project(&s, &search, x, None).ok()?;

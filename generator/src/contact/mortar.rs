@@ -44,7 +44,9 @@ use crate::contact::kinematics3d::SurfacePointGeometry;
 use crate::contact::projection::{
     MasterCurve, MasterSamples, Projection, project, project_on_element,
 };
-use crate::contact::projection3d::{self, Guess, MasterSearch, MasterSurface, SurfaceProjection};
+use crate::contact::projection3d::{
+    self, Guess, MasterSearch, MasterSurface, SurfacePieces, SurfaceProjection,
+};
 use crate::contact::segments::{Breakpoint, Segmenter, cell_points, interval_points};
 use crate::contact::{
     ContactSettings, Integration, ThermalContact, ThermalEnforcement, ThermalMethod,
@@ -380,6 +382,7 @@ impl ContactInterface {
             let surface = MasterSurface {
                 face: &master_face,
                 points: master_face.control_points(),
+                pieces: None,
             };
             let dirs: Vec<usize> = (0..3).filter(|&d| d != mdir).collect();
             let eta = [q.xi[dirs[0]], q.xi[dirs[1]]];
@@ -661,16 +664,19 @@ impl ContactInterface {
         master_cur: &[[f64; 3]],
     ) -> Result<()> {
         let face = Arc::clone(&self.master_face);
-        let surface = MasterSurface {
-            face: &face,
-            points: master_cur,
-        };
-        let search = MasterSearch::new(&surface, [self.period, self.period]);
         let previous = std::mem::take(&mut self.state);
         // On a configuration that has not moved the projections are the
         // previous ones; only the gaps and jumps are re-evaluated.
         let positions: Vec<[f64; 3]> = slave_cur.iter().chain(master_cur).copied().collect();
         let unmoved = previous.len() == self.points.len() && positions == self.projected_at;
+        // The projections evaluate the surface by its polynomial pieces.
+        let pieces = (!unmoved).then(|| SurfacePieces::new(&face, master_cur));
+        let surface = MasterSurface {
+            face: &face,
+            points: master_cur,
+            pieces: pieces.as_ref(),
+        };
+        let search = MasterSearch::new(&surface, [self.period, self.period]);
         let this = &*self;
         let out = this
             .points

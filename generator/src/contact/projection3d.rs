@@ -8,10 +8,14 @@
 //! one on an element, so the element's surface lies in their convex hull):
 //! the distance to that box is a lower bound of the distance to the element.
 //! Elements (and periodic images) are minimized in the order of their bounds,
-//! starting with the previous projection's element, until the bound exceeds
+//! starting with the previous projection's element (without one: the element
+//! with the nearest box among those over the point), until the bound exceeds
 //! the best distance found; every element that could hold a closer point —
 //! in particular every element sharing the closest point — has been
-//! minimized. Each element minimization is a Newton iteration on
+//! minimized. The bounds are computed only for the elements listed in the
+//! cells of a uniform x-y grid that the best distance reaches (`BoxGrid`),
+//! so a point costs the elements near it, not all of them. The surface is
+//! evaluated on each element's polynomial piece ([`SurfacePieces`]). Each element minimization is a Newton iteration on
 //! `½|x − x_m(η)|²` over the element's parameter box (projected Newton:
 //! coordinates at a bound with the gradient pointing outward are held, the
 //! others take the Newton step, with backtracking).
@@ -46,6 +50,131 @@ pub struct MasterSurface<'a> {
     pub face: &'a ThbPatch,
     /// Current control points, in the face's numbering.
     pub points: &'a [[f64; 3]],
+    /// The polynomial pieces of `face` at `points`, if built
+    /// ([`SurfacePieces::new`]): the evaluator then reads them instead of the
+    /// THB basis.
+    pub pieces: Option<&'a SurfacePieces>,
+}
+
+/// The master surface's polynomial pieces in the current configuration: on
+/// an element whose functions all have weight 1 (to 1e-13) the surface is a polynomial
+/// of degree `p_α` in each parameter, kept as its values at the
+/// `(p₁ + 1)(p₂ + 1)` equispaced nodes of the element and evaluated by the
+/// tensor Lagrange basis (exact up to round-off: the same surface). The
+/// projections evaluate the surface many times per point (search, element
+/// minimizations); this replaces each THB evaluation (the level's B-splines,
+/// the truncation's extraction, the rational weighting) by a few dozen
+/// multiplications. Rational elements keep the THB evaluation.
+#[derive(Clone, Debug)]
+pub struct SurfacePieces {
+    degrees: [usize; 2],
+    /// Per element: the nodal values (first parameter fastest), or `None`
+    /// (rational: evaluate the basis).
+    nodes: Vec<Option<Vec<[f64; 3]>>>,
+}
+
+impl SurfacePieces {
+    /// The pieces of `face` with current control points `points`.
+    #[track_caller]
+    pub fn new(face: &ThbPatch, points: &[[f64; 3]]) -> Self {
+        use rayon::prelude::*;
+        assert_eq!(face.param_dim(), 2, "SurfacePieces: a surface");
+        let degrees = [face.degrees()[0], face.degrees()[1]];
+        let weights = face.weights();
+        let surface = MasterSurface {
+            face,
+            points,
+            pieces: None,
+        };
+        let nodes = (0..face.n_elements())
+            .into_par_iter()
+            .map_init(
+                || SurfaceEvaluator::new(surface),
+                |ev, e| {
+                    let el = &face.elements()[e];
+                    if el
+                        .functions
+                        .iter()
+                        .any(|&g| (weights[g] - 1.0).abs() > 1e-13)
+                    {
+                        return None;
+                    }
+                    let mut values = Vec::with_capacity((degrees[0] + 1) * (degrees[1] + 1));
+                    for j in 0..=degrees[1] {
+                        for i in 0..=degrees[0] {
+                            let t = [i as f64 / degrees[0] as f64, j as f64 / degrees[1] as f64];
+                            let eta =
+                                [0, 1].map(|d| el.lower[d] + t[d] * (el.upper[d] - el.lower[d]));
+                            values.push(ev.at_basis(e, eta).x);
+                        }
+                    }
+                    Some(values)
+                },
+            )
+            .collect();
+        SurfacePieces { degrees, nodes }
+    }
+
+    /// Position and derivatives on element `e` at `eta`, if it is polynomial.
+    fn at(&self, face: &ThbPatch, e: usize, eta: [f64; 2]) -> Option<SurfacePoint> {
+        let values = self.nodes[e].as_ref()?;
+        let el = &face.elements()[e];
+        let mut l = [[[0.0; 3]; 4]; 2];
+        for d in 0..2 {
+            let h = el.upper[d] - el.lower[d];
+            let t = (eta[d] - el.lower[d]) / h;
+            l[d] = lagrange(self.degrees[d], t);
+            for b in l[d].iter_mut() {
+                b[1] /= h;
+                b[2] /= h * h;
+            }
+        }
+        let mut s = SurfacePoint::default();
+        let n0 = self.degrees[0] + 1;
+        for (k, x) in values.iter().enumerate() {
+            let (u, v) = (l[0][k % n0], l[1][k / n0]);
+            for c in 0..3 {
+                s.x[c] += u[0] * v[0] * x[c];
+                s.a[0][c] += u[1] * v[0] * x[c];
+                s.a[1][c] += u[0] * v[1] * x[c];
+                s.aa[0][0][c] += u[2] * v[0] * x[c];
+                s.aa[0][1][c] += u[1] * v[1] * x[c];
+                s.aa[1][1][c] += u[0] * v[2] * x[c];
+            }
+        }
+        s.aa[1][0] = s.aa[0][1];
+        Some(s)
+    }
+}
+
+/// The Lagrange polynomials of degree `p ≤ 3` on the nodes `i/p` of [0, 1] at
+/// `t`: `[ℓ_i, ℓ_i', ℓ_i'']` for `i = 0..=p` (the rest zero).
+fn lagrange(p: usize, t: f64) -> [[f64; 3]; 4] {
+    assert!((1..=3).contains(&p), "lagrange: degree 1 to 3");
+    let node = |i: usize| i as f64 / p as f64;
+    let mut out = [[0.0; 3]; 4];
+    for (i, o) in out.iter_mut().enumerate().take(p + 1) {
+        let others: Vec<usize> = (0..=p).filter(|&j| j != i).collect();
+        let denominator: f64 = others.iter().map(|&j| node(i) - node(j)).product();
+        let factor = |skip: &[usize]| -> f64 {
+            others
+                .iter()
+                .filter(|j| !skip.contains(j))
+                .map(|&j| t - node(j))
+                .product()
+        };
+        o[0] = factor(&[]);
+        for &k in &others {
+            o[1] += factor(&[k]);
+            for &m in others.iter().filter(|&&m| m != k) {
+                o[2] += factor(&[k, m]);
+            }
+        }
+        for v in o.iter_mut() {
+            *v /= denominator;
+        }
+    }
+    out
 }
 
 /// Evaluates a [`MasterSurface`] with reused buffers.
@@ -74,6 +203,18 @@ impl<'a> SurfaceEvaluator<'a> {
     /// Position, tangents and second derivatives of element `e`'s polynomial
     /// (rational) piece at `eta` (one-sided at the element's boundary).
     pub fn at(&mut self, e: usize, eta: [f64; 2]) -> SurfacePoint {
+        if let Some(s) = self
+            .surface
+            .pieces
+            .and_then(|p| p.at(self.surface.face, e, eta))
+        {
+            return s;
+        }
+        self.at_basis(e, eta)
+    }
+
+    /// [`Self::at`] by the THB basis.
+    fn at_basis(&mut self, e: usize, eta: [f64; 2]) -> SurfacePoint {
         self.surface
             .face
             .element_basis_into(e, &eta, 2, &mut self.scratch, &mut self.basis);
@@ -151,6 +292,85 @@ pub struct MasterSearch {
     seams: [bool; 2],
     /// A length of the master (for relative tolerances).
     scale: f64,
+    /// The elements over each cell of a uniform grid on the master's x-y extent.
+    grid: BoxGrid,
+}
+
+/// A uniform grid of cells over the x-y extent of the master, each listing the
+/// elements whose bounding box overlaps it: the elements whose box lies within
+/// a distance `r` of a point are among those of the cells the square of side
+/// `2r` around it overlaps, so a search with a finite bound visits those only
+/// (the number of elements near the point, not all of them).
+#[derive(Clone, Debug)]
+struct BoxGrid {
+    origin: [f64; 2],
+    cell: [f64; 2],
+    n: [usize; 2],
+    elements: Vec<Vec<u32>>,
+}
+
+impl BoxGrid {
+    fn new(boxes: &[([f64; 3], [f64; 3])], extent: ([f64; 3], [f64; 3])) -> Self {
+        let side = (boxes.len() as f64).sqrt().ceil().max(1.0) as usize;
+        let origin = [extent.0[0], extent.0[1]];
+        let mut n = [1; 2];
+        let mut cell = [1.0; 2];
+        for d in 0..2 {
+            let length = extent.1[d] - extent.0[d];
+            if length.is_finite() && length > 0.0 {
+                n[d] = side;
+                cell[d] = length / side as f64;
+            }
+        }
+        let mut grid = BoxGrid {
+            origin,
+            cell,
+            n,
+            elements: vec![Vec::new(); n[0] * n[1]],
+        };
+        for (e, (lo, hi)) in boxes.iter().enumerate() {
+            if let Some(([i0, j0], [i1, j1])) = grid.range([lo[0], lo[1]], [hi[0], hi[1]]) {
+                for j in j0..=j1 {
+                    for i in i0..=i1 {
+                        grid.elements[i + grid.n[0] * j].push(e as u32);
+                    }
+                }
+            }
+        }
+        grid
+    }
+
+    /// The cells overlapping the box `[lo, hi]` (x-y), if any.
+    fn range(&self, lo: [f64; 2], hi: [f64; 2]) -> Option<([usize; 2], [usize; 2])> {
+        let mut out = ([0; 2], [0; 2]);
+        for d in 0..2 {
+            let a = ((lo[d] - self.origin[d]) / self.cell[d]).floor();
+            let b = ((hi[d] - self.origin[d]) / self.cell[d]).floor();
+            let last = (self.n[d] - 1) as f64;
+            // Cells are closed: a box on a cell boundary counts on both sides.
+            if !(b >= 0.0 && a <= last) || a.is_nan() || b.is_nan() {
+                return None;
+            }
+            out.0[d] = a.max(0.0) as usize;
+            out.1[d] = b.min(last) as usize;
+            if self.origin[d] + out.0[d] as f64 * self.cell[d] == lo[d] && out.0[d] > 0 {
+                out.0[d] -= 1;
+            }
+        }
+        Some(out)
+    }
+
+    /// Pushes onto `out` the elements of the cells that the square of
+    /// half-side `r` around `x` overlaps (with repetitions).
+    fn near(&self, x: [f64; 3], r: f64, out: &mut Vec<u32>) {
+        if let Some(([i0, j0], [i1, j1])) = self.range([x[0] - r, x[1] - r], [x[0] + r, x[1] + r]) {
+            for j in j0..=j1 {
+                for i in i0..=i1 {
+                    out.extend_from_slice(&self.elements[i + self.n[0] * j]);
+                }
+            }
+        }
+    }
 }
 
 impl MasterSearch {
@@ -196,6 +416,7 @@ impl MasterSearch {
             .map(|c| extent.1[c] - extent.0[c])
             .fold(0.0, f64::max)
             .max(f64::MIN_POSITIVE);
+        let grid = BoxGrid::new(&boxes, extent);
         MasterSearch {
             boxes,
             extent,
@@ -203,6 +424,7 @@ impl MasterSearch {
             domain,
             seams,
             scale,
+            grid,
         }
     }
 
@@ -413,28 +635,62 @@ pub fn project(
         }
     };
     let n = surface.n_elements();
-    if let Some(g) = guess.filter(|g| g.element < n) {
-        consider(&mut ev, &mut best, g.element, g.image, Some(g.eta));
+    let images = search.images(x);
+    // The first bound: the previous projection's element, or else the
+    // element whose box is nearest among those over the point.
+    let seed = match guess.filter(|g| g.element < n) {
+        Some(g) => Some((g.element, g.image, Some(g.eta))),
+        None => {
+            let mut over = Vec::new();
+            let mut nearest: Option<(f64, usize, [i64; 2])> = None;
+            for &k in &images {
+                let xs = sub(x, search.shift(k));
+                over.clear();
+                search.grid.near(xs, 0.0, &mut over);
+                for &e in &over {
+                    let lb = search.lower_bound(e as usize, xs);
+                    if nearest.is_none_or(|b| lb < b.0) {
+                        nearest = Some((lb, e as usize, k));
+                    }
+                }
+            }
+            nearest.map(|(_, e, k)| (e, k, None))
+        }
+    };
+    if let Some((e, k, start)) = seed {
+        consider(&mut ev, &mut best, e, k, start);
     }
     let mut candidates: Vec<(f64, usize, [i64; 2])> = Vec::new();
-    for k in search.images(x) {
+    let mut near = Vec::new();
+    for &k in &images {
         let xs = sub(x, search.shift(k));
         let bound = best.map_or(f64::INFINITY, |b| b.0.sqrt());
-        for e in 0..n {
+        let reach = bound * (1.0 + 1e-12) + 1e-14 * search.scale;
+        let mut push = |e: usize| {
             let lb = search.lower_bound(e, xs);
-            if lb <= bound * (1.0 + 1e-12) + 1e-14 * search.scale {
+            if lb <= reach {
                 candidates.push((lb, e, k));
             }
+        };
+        if reach.is_finite() {
+            near.clear();
+            search.grid.near(xs, reach, &mut near);
+            near.iter().for_each(|&e| push(e as usize));
+        } else {
+            (0..n).for_each(push);
         }
     }
-    candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // By bound, then element and image: the repetitions of the grid's cells
+    // are adjacent.
+    candidates.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+    candidates.dedup_by(|a, b| a.1 == b.1 && a.2 == b.2);
     for (lb, e, k) in candidates {
         if let Some(b) = best
             && lb > b.0.sqrt() * (1.0 + 1e-12) + 1e-14 * search.scale
         {
             break;
         }
-        if guess.is_some_and(|g| g.element == e && g.image == k) {
+        if seed.is_some_and(|(se, sk, _)| se == e && sk == k) {
             continue;
         }
         consider(&mut ev, &mut best, e, k, None);
@@ -489,6 +745,7 @@ mod tests {
         MasterSurface {
             face: p,
             points: p.control_points(),
+            pieces: None,
         }
     }
 
@@ -595,6 +852,74 @@ mod tests {
                 previous = Some(pr);
             }
         }
+    }
+
+    /// The polynomial pieces are the surface: position, tangents and second
+    /// derivatives as the THB basis gives them, on refined (truncated)
+    /// elements of degrees 1–3, and the projections onto them are the same;
+    /// rational elements are left to the basis.
+    #[test]
+    fn polynomial_pieces_evaluate_the_surface() {
+        let mut r = rng(17);
+        for (p, n) in [(1, 5), (2, 4), (3, 3)] {
+            let patch = wavy(p, n, 0.08, true);
+            let moved: Vec<[f64; 3]> = patch
+                .control_points()
+                .iter()
+                .map(|x| [x[0] + 0.01 * r(), x[1], x[2] + 0.02 * r()])
+                .collect();
+            let pieces = SurfacePieces::new(&patch, &moved);
+            assert!(pieces.nodes.iter().all(|v| v.is_some()));
+            let plain = MasterSurface {
+                face: &patch,
+                points: &moved,
+                pieces: None,
+            };
+            let fast = MasterSurface {
+                pieces: Some(&pieces),
+                ..plain
+            };
+            let (mut a, mut b) = (SurfaceEvaluator::new(plain), SurfaceEvaluator::new(fast));
+            for e in 0..patch.n_elements() {
+                let (lo, hi) = plain.bounds(e);
+                for _ in 0..5 {
+                    let eta = [0, 1].map(|d| lo[d] + r() * (hi[d] - lo[d]));
+                    let (x, y) = (a.at(e, eta), b.at(e, eta));
+                    let scale = [x.a, x.aa[0], x.aa[1]]
+                        .iter()
+                        .flatten()
+                        .flatten()
+                        .fold(1.0f64, |m, v| m.max(v.abs()));
+                    let all = |s: &SurfacePoint| -> Vec<f64> {
+                        let mut v = s.x.to_vec();
+                        v.extend(s.a.iter().flatten());
+                        v.extend(s.aa.iter().flatten().flatten());
+                        v
+                    };
+                    for (u, v) in all(&x).iter().zip(all(&y)) {
+                        assert!(
+                            (u - v).abs() < 1e-12 * scale,
+                            "p = {p}, element {e}: {u} vs {v}"
+                        );
+                    }
+                }
+            }
+            let (sa, sb) = (
+                MasterSearch::new(&plain, [None, None]),
+                MasterSearch::new(&fast, [None, None]),
+            );
+            for _ in 0..20 {
+                let x = [r(), r(), 0.3 * r() - 0.15];
+                let (u, v) = (
+                    project(&plain, &sa, x, None).unwrap(),
+                    project(&fast, &sb, x, None).unwrap(),
+                );
+                assert!((u.distance - v.distance).abs() < 1e-12, "{u:?} {v:?}");
+            }
+        }
+        let sphere = sphere_patch([0.0; 3], 1.0, [0.1, 0.7], [0.0, 1.2]);
+        let pieces = SurfacePieces::new(&sphere, sphere.control_points());
+        assert!(pieces.nodes.iter().all(|v| v.is_none()));
     }
 
     #[test]
