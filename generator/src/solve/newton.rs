@@ -37,6 +37,9 @@ pub trait NonlinearProblem {
     /// Applies the prescribed values and loads of load factor `λ`.
     fn set_load(&mut self, load_factor: f64);
     /// Residual (and tangent values when `values` is given) at the current state.
+    /// Newton calls it for the residual alone first, and again with `values`
+    /// when an iteration follows: a repeat at the same state must give the same
+    /// residual.
     fn assemble(&mut self, values: Option<&mut [f64]>, residual: &mut [f64]) -> Result<()>;
     /// External load per field class at the current load factor, as a reference
     /// magnitude for the relative residual test (Euclidean norms).
@@ -297,7 +300,7 @@ impl Newton {
                 residuals: norms.clone(),
                 linear_fallback: None,
             });
-            if std::env::var_os("TCGEN_TRACE").is_some() {
+            if trace {
                 let rss = super::resources::process_memory("VmRSS:").unwrap_or(0);
                 eprintln!(
                     "  step {step} λ={load_factor:.4} it {it}: {norms:?} ({} MB resident)",
@@ -352,7 +355,7 @@ impl Newton {
             }
             if let Some(reason) = solver.fallback() {
                 self.linear_fallbacks += 1;
-                if std::env::var_os("TCGEN_TRACE").is_some() {
+                if trace {
                     eprintln!("  step {step} λ={load_factor:.4} it {it}: solved by LU: {reason}");
                 }
                 let record = history.last_mut().expect("pushed above");
