@@ -15,8 +15,8 @@
 //! minimized. The bounds are computed only for the elements listed in the
 //! cells of a uniform x-y grid that the best distance reaches (`BoxGrid`),
 //! so a point costs the elements near it, not all of them. The surface is
-//! evaluated on each element's polynomial piece ([`SurfacePieces`]). Each element minimization is a Newton iteration on
-//! `½|x − x_m(η)|²` over the element's parameter box (projected Newton:
+//! evaluated on each element's polynomial piece ([`SurfacePieces`]). Each
+//! element minimization is a Newton iteration on `½|x − x_m(η)|²` over the element's parameter box (projected Newton:
 //! coordinates at a bound with the gradient pointing outward are held, the
 //! others take the Newton step, with backtracking).
 //!
@@ -152,22 +152,24 @@ impl SurfacePieces {
 fn lagrange(p: usize, t: f64) -> [[f64; 3]; 4] {
     assert!((1..=3).contains(&p), "lagrange: degree 1 to 3");
     let node = |i: usize| i as f64 / p as f64;
+    // Π (t − t_j) over j ∉ {i} ∪ skip (on the stack: a hot path).
+    let product = |i: usize, skip: [usize; 2]| -> f64 {
+        (0..=p)
+            .filter(|&j| j != i && !skip.contains(&j))
+            .map(|j| t - node(j))
+            .product()
+    };
     let mut out = [[0.0; 3]; 4];
     for (i, o) in out.iter_mut().enumerate().take(p + 1) {
-        let others: Vec<usize> = (0..=p).filter(|&j| j != i).collect();
-        let denominator: f64 = others.iter().map(|&j| node(i) - node(j)).product();
-        let factor = |skip: &[usize]| -> f64 {
-            others
-                .iter()
-                .filter(|j| !skip.contains(j))
-                .map(|&j| t - node(j))
-                .product()
-        };
-        o[0] = factor(&[]);
-        for &k in &others {
-            o[1] += factor(&[k]);
-            for &m in others.iter().filter(|&&m| m != k) {
-                o[2] += factor(&[k, m]);
+        let denominator: f64 = (0..=p)
+            .filter(|&j| j != i)
+            .map(|j| node(i) - node(j))
+            .product();
+        o[0] = product(i, [i, i]);
+        for k in (0..=p).filter(|&k| k != i) {
+            o[1] += product(i, [k, k]);
+            for m in (0..=p).filter(|&m| m != i && m != k) {
+                o[2] += product(i, [k, m]);
             }
         }
         for v in o.iter_mut() {
@@ -347,15 +349,13 @@ impl BoxGrid {
             let a = ((lo[d] - self.origin[d]) / self.cell[d]).floor();
             let b = ((hi[d] - self.origin[d]) / self.cell[d]).floor();
             let last = (self.n[d] - 1) as f64;
-            // Cells are closed: a box on a cell boundary counts on both sides.
-            if !(b >= 0.0 && a <= last) || a.is_nan() || b.is_nan() {
+            // Outside the grid (or NaN): no cell. Boxes that overlap share a
+            // point, and its cell (clamped to the grid) lies in both ranges.
+            if !(b >= 0.0 && a <= last) {
                 return None;
             }
             out.0[d] = a.max(0.0) as usize;
             out.1[d] = b.min(last) as usize;
-            if self.origin[d] + out.0[d] as f64 * self.cell[d] == lo[d] && out.0[d] > 0 {
-                out.0[d] -= 1;
-            }
         }
         Some(out)
     }

@@ -269,8 +269,9 @@ pub struct HomogenizationSection {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Acceleration {
-    /// The secant method on `F(ϑ) − ϑ` through the last two iterates (Aitken's Δ²
-    /// on the first two), falling back to the plain update where the secant slope
+    /// The secant method on `F(ϑ) − ϑ` through the last two iterates (the first
+    /// step from the plain two-phase jump with the previous pressure's slope, or
+    /// Aitken's Δ² without one), falling back to the plain update where the secant slope
     /// of `F` is not a contraction (`|F'| > 0.9`).
     #[default]
     Secant,
