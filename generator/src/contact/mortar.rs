@@ -138,6 +138,11 @@ pub struct ContactInterface {
     test: Option<Vec<Vec<(usize, f64)>>>,
     /// The slave node whose contact element carries a point's continuum terms.
     owner: Vec<usize>,
+    /// The slave node that carries each slave control point's multipliers:
+    /// itself, or for a periodic copy (the control points on the seam faces
+    /// `x = W`, `y = W` tied to those at 0) the first of its tie group
+    /// ([`ContactInterface::merge_periodic_copies`]).
+    copy_of: Vec<usize>,
     /// Period of the master (PR conditions), scaled.
     pub period: Option<f64>,
     normal_sign: f64,
@@ -206,7 +211,47 @@ impl PointSet {
     /// the owners and the lumped areas `⟨ψ^I⟩` over them; the test
     /// functions `ψ^I` are the slave basis `N^I` unless `test` gives their
     /// weights `(node, weight · ψ^I)` at each point.
-    fn new(points: Vec<SlavePoint>, test: Option<Vec<Vec<(usize, f64)>>>, n_nodes: usize) -> Self {
+    /// A periodic copy's test function is its node's (`copy_of`): the
+    /// two are one function of the periodic slave space, whose weighted gap
+    /// is one constraint.
+    fn new(
+        points: Vec<SlavePoint>,
+        test: Option<Vec<Vec<(usize, f64)>>>,
+        copy_of: &[usize],
+    ) -> Self {
+        let n_nodes = copy_of.len();
+        let merged = |pairs: &mut dyn Iterator<Item = (usize, f64)>| {
+            let mut out: Vec<(usize, f64)> = Vec::new();
+            for (i, w) in pairs {
+                let i = copy_of[i];
+                match out.iter_mut().find(|(j, _)| *j == i) {
+                    Some(e) => e.1 += w,
+                    None => out.push((i, w)),
+                }
+            }
+            out
+        };
+        let has_copies = copy_of.iter().enumerate().any(|(i, &c)| c != i);
+        // With periodic copies every point's weights are given (merged);
+        // otherwise only where they are not the slave basis.
+        let test: Option<Vec<Vec<(usize, f64)>>> = match test {
+            Some(t) => Some(t.into_iter().map(|p| merged(&mut p.into_iter())).collect()),
+            None if has_copies => Some(
+                points
+                    .iter()
+                    .map(|p| {
+                        merged(
+                            &mut p
+                                .conn
+                                .iter()
+                                .zip(&p.basis)
+                                .map(|(&i, &n)| (i, p.weight * n)),
+                        )
+                    })
+                    .collect(),
+            ),
+            None => None,
+        };
         let mut node_points = vec![Vec::new(); n_nodes];
         let mut lumped_area = vec![0.0; n_nodes];
         for (id, p) in points.iter().enumerate() {
@@ -225,7 +270,7 @@ impl PointSet {
             }
         }
         PointSet {
-            owner: points.iter().map(owner_of).collect(),
+            owner: points.iter().map(|p| copy_of[owner_of(p)]).collect(),
             points,
             node_points,
             test,
@@ -438,6 +483,7 @@ impl ContactInterface {
             node_points,
             test: None,
             owner,
+            copy_of: (0..n_s).collect(),
             period,
             normal_sign,
             eps_n,
@@ -481,9 +527,10 @@ impl ContactInterface {
             Ok((pr.element, image, pr.vertex))
         })?;
         // The lumped areas are the element-based ones (the same integrals).
-        let set = PointSet::new(points, None, self.slave_nodes.len());
+        let set = PointSet::new(points, None, &self.copy_of);
         self.owner = set.owner;
         self.node_points = set.node_points;
+        self.test = set.test;
         self.points = set.points;
         self.breakpoints = breakpoints;
         Ok(())
@@ -557,13 +604,16 @@ impl ContactInterface {
                 }
             }
             let jac = dx_ref[0].hypot(dx_ref[1]);
+            let mut nodes: Vec<(usize, f64)> = Vec::new();
+            for (&c, &n) in basis.indices.iter().zip(&basis.values) {
+                let c = self.copy_of[c];
+                match nodes.iter_mut().find(|(j, _)| *j == c) {
+                    Some(e) => e.1 += n * jac,
+                    None => nodes.push((c, n * jac)),
+                }
+            }
             out.push(BreakTerm {
-                nodes: basis
-                    .indices
-                    .iter()
-                    .zip(&basis.values)
-                    .map(|(&c, &n)| (c, n * jac))
-                    .collect(),
+                nodes,
                 dofs,
                 jump,
                 slope,
@@ -587,6 +637,65 @@ impl ContactInterface {
     /// Number of slave control points (= multipliers per family).
     pub fn n_slave(&self) -> usize {
         self.slave_nodes.len()
+    }
+
+    /// Whether slave control point `i` is a periodic copy: its multipliers
+    /// are placeholders held at zero, and its node's (`copy_of`) carry the
+    /// merged test function; its accessors report that node's values.
+    pub fn is_copy(&self, i: usize) -> bool {
+        self.copy_of[i] != i
+    }
+
+    /// The slave node that carries control point `i`'s multipliers (`i`
+    /// itself unless it is a periodic copy, [`ContactInterface::is_copy`]).
+    pub fn copy_of(&self, i: usize) -> usize {
+        self.copy_of[i]
+    }
+
+    /// Merges the periodic copies among the slave control points: `ties`
+    /// are pairs of global nodes tied by the periodic conditions. The open
+    /// basis has a control point on each seam face where the periodic slave
+    /// space has one function, `N^I + N^J`; with a multiplier on each, a
+    /// contact line along a seam direction (ridges, full contact) gave two
+    /// constraints where the space holds one, dependent wherever the master
+    /// represents the gap in the same space (matching meshes in that
+    /// direction, or flat on flat): a singular system. One multiplier per
+    /// tie group, on the merged test function, is the lumped mortar (4.8)
+    /// of the periodic space.
+    pub fn merge_periodic_copies(&mut self, ties: impl IntoIterator<Item = (usize, usize)>) {
+        let n = self.n_slave();
+        let local: std::collections::HashMap<usize, usize> = self
+            .slave_nodes
+            .iter()
+            .enumerate()
+            .map(|(i, &g)| (g, i))
+            .collect();
+        // Union-find over the slave control points, the smallest index the root.
+        let mut root: Vec<usize> = (0..n).collect();
+        fn find(root: &mut [usize], mut i: usize) -> usize {
+            while root[i] != i {
+                root[i] = root[root[i]];
+                i = root[i];
+            }
+            i
+        }
+        for (a, b) in ties {
+            let (Some(&a), Some(&b)) = (local.get(&a), local.get(&b)) else {
+                continue;
+            };
+            let (ra, rb) = (find(&mut root, a), find(&mut root, b));
+            if ra != rb {
+                root[ra.max(rb)] = ra.min(rb);
+            }
+        }
+        let copy_of: Vec<usize> = (0..n).map(|i| find(&mut root, i)).collect();
+        if copy_of == self.copy_of {
+            return;
+        }
+        self.copy_of = copy_of;
+        let set = PointSet::new(std::mem::take(&mut self.points), None, &self.copy_of);
+        self.swap_points(set);
+        self.state.clear();
     }
 
     /// Projects every integration point in the current configuration and
@@ -945,7 +1054,7 @@ impl ContactInterface {
         for i in entering {
             for &q in &self.node_points[i] {
                 for &c in &self.points[q].conn {
-                    coupled[c] = true;
+                    coupled[self.copy_of[c]] = true;
                 }
             }
             coupled[i] = true;
@@ -1012,6 +1121,7 @@ impl ContactInterface {
 
     /// Weighted gap `g^I` (4.8) at the current state.
     pub fn weighted_gap(&self, i: usize) -> f64 {
+        let i = self.copy_of[i];
         let s: f64 = self.node_points[i]
             .iter()
             .map(|&q| self.weight_of(q, i) * self.state[q].gap.value)
@@ -1021,6 +1131,7 @@ impl ContactInterface {
 
     /// Lumped mortar temperature jump `γθ^I` (4.8).
     pub fn weighted_jump(&self, i: usize) -> f64 {
+        let i = self.copy_of[i];
         let s: f64 = self.node_points[i]
             .iter()
             .map(|&q| self.weight_of(q, i) * self.state[q].jump.value)
@@ -1043,6 +1154,7 @@ impl ContactInterface {
 
     /// Contact pressure `pN^I = λN^I − εN g^I` (positive in compression).
     pub fn pressure(&self, i: usize) -> f64 {
+        let i = self.copy_of[i];
         if let Some((p, _)) = &self.frozen {
             return p[i];
         }
@@ -1053,6 +1165,7 @@ impl ContactInterface {
     /// thermal contact model defines it at the current state; zero outside
     /// the active set.
     pub fn heat_flux(&self, i: usize) -> f64 {
+        let i = self.copy_of[i];
         if !self.is_active(i) {
             return 0.0;
         }
@@ -1076,6 +1189,7 @@ impl ContactInterface {
     /// or, in the thermal phase on a contact zone, whether the zone covers a
     /// part of its support (`⟨N^I⟩` over the zone above 1e-10 of the whole).
     pub fn is_active(&self, i: usize) -> bool {
+        let i = self.copy_of[i];
         match (&self.frozen, &self.zone) {
             (Some(_), Some(z)) => self.lumped_area[i] > 1e-10 * z.surface_area[i],
             (Some((_, a)), None) => a[i],
@@ -1091,6 +1205,7 @@ impl ContactInterface {
     /// it, then do not depend on the factor, as the mechanical solution does
     /// not.
     pub fn indicator(&self, i: usize) -> f64 {
+        let i = self.copy_of[i];
         match &self.frozen {
             Some((p, _)) => p[i],
             None => {
@@ -1297,7 +1412,7 @@ impl ContactInterface {
                 pairs
             })
             .collect();
-        let set = PointSet::new(points, Some(test), self.n_slave());
+        let set = PointSet::new(points, Some(test), &self.copy_of);
         let mechanical = self.swap_points(set);
         self.mechanical_points = Some(mechanical);
         self.zone = Some(zone);
@@ -1741,6 +1856,29 @@ impl ContactInterface {
         } else {
             None
         };
+        if self.is_copy(i) {
+            // A periodic copy: placeholder multipliers held at zero (rows
+            // `−A λ/ε`, `A` its node's area for the scale).
+            let a = self.surface_area(self.copy_of[i]);
+            let rows = [
+                (
+                    iln,
+                    unknowns.mechanical_terms && self.frozen.is_none(),
+                    self.lambda_n[i],
+                    self.eps_n,
+                ),
+                (ilt, unknowns.thermal_terms, self.lambda_t[i], self.eps_t),
+            ];
+            for (il, on, lam, eps) in rows {
+                if let (Some(il), true) = (il, on) {
+                    r[il] -= a * lam / eps;
+                    if let Some(k) = k.as_deref_mut() {
+                        k[il + n * il] -= a / eps;
+                    }
+                }
+            }
+            return;
+        }
         let area = self.lumped_area[i];
         // The multiplier rows of nodes out of contact (the zone may not
         // reach them in the thermal phase).

@@ -722,8 +722,11 @@ impl<'a> PathSolver<'a> {
                             (abp, ts, jump, iface) =
                                 (phase.abp, phase.theta_s, new_jump, phase.interface);
                             fields = phase.fields;
+                            // Relative to the jump, and absolute at 1e-12 θc
+                            // (1e4 round-offs of the temperatures): a jump of
+                            // round-off size (conforming flat surfaces) stops.
                             if change
-                                <= case.homogenization.tolerance * jump.abs().max(1e-12 * theta_c)
+                                <= (case.homogenization.tolerance * jump.abs()).max(1e-12 * theta_c)
                             {
                                 converged = true;
                                 break;

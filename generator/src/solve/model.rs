@@ -411,6 +411,18 @@ impl ModelBuilder {
         for &(node, field, f) in &self.point_loads {
             f_mech[node * nf + field] += f;
         }
+        // One multiplier per periodic tie group of slave control points (the
+        // temperature ties are the periodic ones).
+        let mut contact = self.contact;
+        if let Some(c) = contact.as_mut() {
+            let t = self.dim;
+            c.merge_periodic_copies(
+                self.ties
+                    .iter()
+                    .filter(|((_, f), (_, g))| *f == t && *g == t)
+                    .map(|&((a, _), (b, _))| (a, b)),
+            );
+        }
         let seams = self
             .seams
             .iter()
@@ -434,7 +446,7 @@ impl ModelBuilder {
             load_factor: 0.0,
             step_residual: None,
             coupling,
-            contact: self.contact,
+            contact,
             n_bulk_eq: 0,
             mult_eq: (None, None),
             pattern_version: 0,
@@ -825,7 +837,7 @@ impl Model {
         // Seed every point that touches (conforming surfaces touch everywhere).
         for i in 0..c.n_slave() {
             let g = c.weighted_gap(i);
-            if i == imin || g < 1e-10 {
+            if !c.is_copy(i) && (i == imin || g < 1e-10) {
                 c.lambda_n[i] = c.lambda_n[i].max(c.eps_n * (2.0 * g.max(0.0) + 1e-9));
             }
         }

@@ -282,9 +282,10 @@ fn sample_interface(model: &Model) -> Option<InterfaceFields> {
                 pos(2),
                 c.pressure(i).max(0.0) * s.stress,
                 c.weighted_gap(i) * s.length,
-                c.surface_area(i) * area,
+                // A periodic copy shows its node's (merged) areas.
+                c.surface_area(c.copy_of(i)) * area,
                 c.heat_flux(i) * s.flux(),
-                c.lumped_area[i] * area,
+                c.lumped_area[c.copy_of(i)] * area,
                 u(0),
                 u(1),
                 u(2),
@@ -325,10 +326,16 @@ fn sample_interface(model: &Model) -> Option<InterfaceFields> {
         .map(|w| std::array::from_fn(|k| w.iter().map(|&(i, r)| r * interpolated(i, k)).sum()))
         .collect();
     let column = |k: usize| values.iter().map(|v| v[k]).collect();
+    let owned = nodal
+        .iter()
+        .enumerate()
+        .filter(|&(i, _)| !c.is_copy(i))
+        .map(|(_, v)| v);
     Some(InterfaceFields {
         dims,
-        contact_force: nodal.iter().map(|v| v[3] * v[5]).sum(),
-        heat_flow: nodal.iter().map(|v| v[6] * v[7]).sum(),
+        // Each tie group once (a periodic copy shows its node's areas).
+        contact_force: owned.clone().map(|v| v[3] * v[5]).sum(),
+        heat_flow: owned.map(|v| v[6] * v[7]).sum(),
         points: values.iter().map(|v| [v[0], v[1], v[2]]).collect(),
         displacement: values.iter().map(|v| [v[8], v[9], v[10]]).collect(),
         contact_pressure: column(3),
