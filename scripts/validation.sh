@@ -18,7 +18,7 @@ data="${VALIDATION_DATA:-$target/validation-data}"
 out="${VALIDATION_OUT:-$root/docs/validation}"
 cases="mms_,newton_quadratic,contact_hertz,contact_wavy,lateral"
 cases="$cases,size_effects_resistive,scale_separation,textured_conforming"
-cases="$cases,self_consistency,height_saturation,hbp_validation"
+cases="$cases,self_consistency,height_saturation,hbp_validation,plane_strain"
 (cd "$root" && cargo build --release -p tcgen --quiet)
 rm -rf "$data"
 status=0
