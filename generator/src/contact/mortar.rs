@@ -196,6 +196,14 @@ pub struct ContactInterface {
     break_terms: Vec<BreakTerm>,
 }
 
+/// Per slave node, the factors of its points' gap and jump Hessians in the
+/// tangent ([`ContactInterface::hessian_weights`]).
+#[derive(Clone, Debug)]
+pub struct HessianWeights {
+    gap: Vec<f64>,
+    jump: Vec<f64>,
+}
+
 /// Integration points and what each slave node sees of them.
 #[derive(Clone, Debug, Default)]
 struct PointSet {
@@ -1119,6 +1127,60 @@ impl ContactInterface {
         v
     }
 
+    /// The factors of the points' Hessians in the point-major 3D tangent
+    /// ([`ContactInterface::element`]), per slave node: `−pN^I` where it is
+    /// in contact and the mechanical terms are assembled (the Alart–Curnier
+    /// term `−pN^I ⟨N^I H_g⟩`), `−h0^I` where it is in contact and the
+    /// mortar thermal terms are (`−h0^I ⟨N^I H_γ⟩`); zero elsewhere. `None`
+    /// in 2D, whose elements accumulate the Hessians per node.
+    pub fn hessian_weights(&self, unknowns: Unknowns) -> Option<HessianWeights> {
+        if self.dim != 3 {
+            return None;
+        }
+        let n = self.n_slave();
+        let mechanical = unknowns.mechanical_terms && self.frozen.is_none();
+        let thermal =
+            unknowns.thermal_terms && self.settings.thermal_method == ThermalMethod::Mortar;
+        let mut w = HessianWeights {
+            gap: vec![0.0; n],
+            jump: vec![0.0; n],
+        };
+        for i in (0..n).filter(|&i| !self.is_copy(i) && self.is_active(i)) {
+            if mechanical {
+                w.gap[i] = -self.pressure(i);
+            }
+            if thermal {
+                w.jump[i] = -self.heat_flux(i);
+            }
+        }
+        Some(w)
+    }
+
+    /// The node that carries point `q`'s Hessians (the one of largest test
+    /// weight there, the first of equals) and their factors
+    /// `Σ_I w^I(q) · weights^I` for the gap and the jump.
+    fn point_hessian_factors(&self, q: usize, weights: &HessianWeights) -> (usize, f64, f64) {
+        let (mut carrier, mut best, mut cg, mut cj) = (usize::MAX, f64::NEG_INFINITY, 0.0, 0.0);
+        let mut visit = |j: usize, w: f64| {
+            if w > best {
+                (carrier, best) = (j, w);
+            }
+            cg += w * weights.gap[j];
+            cj += w * weights.jump[j];
+        };
+        match &self.test {
+            Some(t) => t[q].iter().for_each(|&(j, w)| visit(j, w)),
+            None => {
+                let p = &self.points[q];
+                p.conn
+                    .iter()
+                    .zip(&p.basis)
+                    .for_each(|(&j, &n)| visit(j, p.weight * n));
+            }
+        }
+        (carrier, cg, cj)
+    }
+
     /// Weighted gap `g^I` (4.8) at the current state.
     pub fn weighted_gap(&self, i: usize) -> f64 {
         let i = self.copy_of[i];
@@ -1846,7 +1908,14 @@ impl ContactInterface {
 
     /// Adds the contact element of slave node `i` to `k` (column-major, n×n) and `r`.
     /// `layout` says which multipliers the element carries (see [`ContactInterface::element_eqs`]).
-    pub fn element(&self, i: usize, unknowns: Unknowns, mut k: Option<&mut [f64]>, r: &mut [f64]) {
+    pub fn element(
+        &self,
+        i: usize,
+        unknowns: Unknowns,
+        hessians: Option<&HessianWeights>,
+        mut k: Option<&mut [f64]>,
+        r: &mut [f64],
+    ) {
         let dofs = self.element_dofs(i, unknowns);
         let nd = dofs.len();
         let n = r.len();
@@ -1888,7 +1957,12 @@ impl ContactInterface {
         let (mut g, mut gt) = (vec![0.0; nd], vec![0.0; nd]);
         let active = self.is_active(i);
         let want_h = k.is_some() && active;
-        let (mut h, mut ht) = if want_h {
+        // Per node (2D): the node's points' Hessians, weighted by its test
+        // function, enter its own terms. Point-major (`hessians`, 3D): each
+        // point's Hessians enter once, in the element of the node that
+        // carries the point, weighted by all its nodes' factors.
+        let node_h = want_h && hessians.is_none();
+        let (mut h, mut ht) = if node_h {
             (vec![0.0; nd * nd], vec![0.0; nd * nd])
         } else {
             (Vec::new(), Vec::new())
@@ -1901,11 +1975,23 @@ impl ContactInterface {
         let points: &[usize] = if nd > 0 { &self.node_points[i] } else { &[] };
         let (mut gs, mut gts) = (0.0, 0.0);
         let mut map: Vec<Option<usize>> = Vec::new();
+        let (mut hp, mut hpt) = (Vec::new(), Vec::new());
         for &q in points {
             let w = self.weight_of(q, i);
             map.clear();
             map.extend(self.point_dofs(q).map(|d| dofs.binary_search(&d).ok()));
             let st = &self.state[q];
+            if let (Some(hw), true) = (hessians, k.is_some()) {
+                let (carrier, cg, cj) = self.point_hessian_factors(q, hw);
+                if carrier == i {
+                    for (d, c, out) in [(&st.gap, cg, &mut hp), (&st.jump, cj, &mut hpt)] {
+                        if c != 0.0 {
+                            out.resize(nd * nd, 0.0);
+                            d.add_hessian(c, &map, nd, out);
+                        }
+                    }
+                }
+            }
             gs += w * st.gap.value;
             gts += w * st.jump.value;
             // Only the derivatives the current phase asked for are present.
@@ -1919,12 +2005,28 @@ impl ContactInterface {
                     }
                 }
                 // An empty Hessian is zero in the unknowns of the phase.
-                if want_h {
+                if node_h {
                     d.add_hessian(w, &map, nd, hv);
                 }
             }
         }
-        if want_h {
+        if let Some(k) = k.as_deref_mut() {
+            // The gap's Hessian in every row; the jump's in the temperature
+            // rows only (the energy balance varies the temperatures).
+            for (m, rows_of) in [(&hp, None), (&hpt, Some(self.dim))] {
+                if m.is_empty() {
+                    continue;
+                }
+                for a in (0..nd).filter(|&a| rows_of.is_none_or(|f| dofs[a].1 == f)) {
+                    for b in 0..nd {
+                        k[a + n * b] += m[a * nd + b];
+                    }
+                }
+            }
+        }
+        // An unset per-node Hessian is zero (point-major assembly).
+        let at = |m: &[f64], ab: usize| m.get(ab).copied().unwrap_or(0.0);
+        if node_h {
             for t in &self.break_terms {
                 let Some(&(_, w)) = t.nodes.iter().find(|(c, _)| *c == i) else {
                     continue;
@@ -1961,7 +2063,11 @@ impl ContactInterface {
                 if want_h {
                     for a in 0..nd {
                         for b in 0..nd {
-                            add_k(a, b, -pn * h[a * nd + b] + self.eps_n * g[a] * g[b] / area);
+                            add_k(
+                                a,
+                                b,
+                                -pn * at(&h, a * nd + b) + self.eps_n * g[a] * g[b] / area,
+                            );
                         }
                         if let Some(il) = iln {
                             add_k(a, il, -g[a]);
@@ -2022,7 +2128,8 @@ impl ContactInterface {
                                     add_k(
                                         a,
                                         b,
-                                        -h0 * ht[a * nd + b] + self.eps_t * gt[a] * gt[b] / area,
+                                        -h0 * at(&ht, a * nd + b)
+                                            + self.eps_t * gt[a] * gt[b] / area,
                                     );
                                 }
                                 add_k(a, il, -gt[a]);
@@ -2051,7 +2158,7 @@ impl ContactInterface {
                                 add_k(
                                     a,
                                     b,
-                                    -h0 * ht[a * nd + b] + self.eps_t * gt[a] * gt[b] / area,
+                                    -h0 * at(&ht, a * nd + b) + self.eps_t * gt[a] * gt[b] / area,
                                 );
                             }
                         }
@@ -2078,7 +2185,7 @@ impl ContactInterface {
                         };
                         for a in (0..nd).filter(|&a| thermal_row[a]) {
                             for b in 0..nd {
-                                let mut v = c * (gt[a] * gt[b] / area) - h0 * ht[a * nd + b];
+                                let mut v = c * (gt[a] * gt[b] / area) - h0 * at(&ht, a * nd + b);
                                 if !frozen {
                                     v += dc * gamma * gt[a] * (-self.eps_n * g[b] / area);
                                 }

@@ -150,7 +150,17 @@ pub fn transfer_state(from: &Model, to: &mut Model) {
     }
     if let (Some(a), Some(b)) = (from.contact.as_ref(), to.contact.as_mut()) {
         let (old, new) = (a.slave_face(), b.slave_face().clone());
-        b.lambda_n = old.prolongate(&new, &a.lambda_n, 1);
-        b.lambda_t = old.prolongate(&new, &a.lambda_t, 1);
+        // The periodic copies carry their node's multipliers while the field
+        // is prolongated (it is continuous across the seams), and none after.
+        let on_copies = |lambda: &[f64]| -> Vec<f64> {
+            (0..lambda.len()).map(|i| lambda[a.copy_of(i)]).collect()
+        };
+        b.lambda_n = old.prolongate(&new, &on_copies(&a.lambda_n), 1);
+        b.lambda_t = old.prolongate(&new, &on_copies(&a.lambda_t), 1);
+        for i in 0..b.n_slave() {
+            if b.is_copy(i) {
+                (b.lambda_n[i], b.lambda_t[i]) = (0.0, 0.0);
+            }
+        }
     }
 }

@@ -1037,6 +1037,11 @@ impl Model {
         let n_seam = self.seams.len();
         let unknowns = self.contact_unknowns();
         let fields = self.phase_fields();
+        // Point-major contact Hessians (3D): the nodes' factors, once.
+        let hessians = match (&self.contact, unknowns, values.is_some()) {
+            (Some(c), Some(u), true) => c.hessian_weights(u),
+            _ => None,
+        };
         let local = |e: usize, k: Option<&mut [f64]>, r: &mut [f64]| -> Result<()> {
             if e >= n_bulk + n_seam {
                 let c = self
@@ -1046,6 +1051,7 @@ impl Model {
                 c.element(
                     e - n_bulk - n_seam,
                     unknowns.expect("contact present"),
+                    hessians.as_ref(),
                     k,
                     r,
                 );
