@@ -904,9 +904,10 @@ fn solve(path: &std::path::Path, json: bool, vtk: Option<std::path::PathBuf>) ->
             println!("{}", serde_json::to_string(r).expect("serializable"));
         } else {
             let status = match (&r.status, r.error_target_met) {
-                (tcgen::homogenize::Status::Converged, Some(false)) => {
-                    "converged, error target NOT met".to_string()
-                }
+                (tcgen::homogenize::Status::Converged, Some(false)) => format!(
+                    "converged, error target NOT met ({})",
+                    r.refinement_stop.as_deref().unwrap_or("refinement stopped")
+                ),
                 (tcgen::homogenize::Status::Converged, _) => "converged".to_string(),
                 (tcgen::homogenize::Status::Failed(m), _) => format!("FAILED: {m}"),
             };

@@ -63,6 +63,7 @@ fn sect57_at_one_kpa_meets_one_percent_with_a_faithful_estimate() {
     assert!(r.converged && deep.converged);
     assert_eq!(r.error_target_met, Some(true));
     assert_eq!(deep.error_target_met, Some(true));
+    assert_eq!(r.refinement_stop.as_deref(), Some("target met"));
     let est = r.jump_error.expect("an estimate");
     assert!(est <= 0.01 * r.jump, "estimate {est} K of {} K", r.jump);
     let truth = (r.jump - deep.jump).abs();
@@ -128,11 +129,24 @@ fn a_point_stopped_by_max_dofs_is_flagged_with_its_estimate() {
     assert_eq!(r.levels, [1, 1]);
     let est = r.jump_error.expect("the one-level estimate");
     assert!(est > 0.01 * r.jump, "{est}");
+    // The reason names the limit and the mesh it would have needed.
+    let stop = r.refinement_stop.as_deref().unwrap_or_default();
+    assert!(stop.starts_with("max_dofs: level 2 would have "), "{stop}");
+    // So does a point stopped by max_levels.
+    let one = solve(&case("[1.0e3]", "target_error = 0.01\nmax_levels = 1"));
+    assert_eq!(
+        (one[0].error_target_met, one[0].refinement_stop.as_deref()),
+        (Some(false), Some("max_levels"))
+    );
     // A fixed mesh reports no estimate.
     let fixed = solve(&case("[1.0e3]", ""));
     assert_eq!(
-        (fixed[0].jump_error, fixed[0].error_target_met),
-        (None, None)
+        (
+            fixed[0].jump_error,
+            fixed[0].error_target_met,
+            fixed[0].refinement_stop.as_deref()
+        ),
+        (None, None, None)
     );
     assert_eq!(fixed[0].levels, [0, 0]);
 }

@@ -65,6 +65,12 @@ pub struct PointResult {
     /// stopped at `max_dofs`, `max_levels` or a failed level, and reports
     /// its best jump with its estimate). `None` on a fixed mesh.
     pub error_target_met: Option<bool>,
+    /// With a target error: why the refinement stopped, `"target met"`,
+    /// `"max_levels"`, `"max_dofs: level L would have N unknowns"` or
+    /// `"level L failed: reason"` (then the jump and estimate are those of
+    /// the last solved level; a failed first level leaves no estimate).
+    /// `None` on a fixed mesh.
+    pub refinement_stop: Option<String>,
     /// Unknowns of the mesh of `jump`: `(d + 1)` per control point.
     pub dofs: usize,
     /// The finest refinement level of each body, `[lower, upper]`.
@@ -92,6 +98,7 @@ impl PointResult {
             newton_iterations: 0,
             jump_error: None,
             error_target_met: None,
+            refinement_stop: None,
             dofs: 0,
             levels: [0, 0],
             converged: false,
@@ -319,6 +326,7 @@ impl<'a> PathSolver<'a> {
             newton_iterations: newton,
             jump_error: None,
             error_target_met: None,
+            refinement_stop: None,
             dofs: (self.model.dim + 1)
                 * self
                     .model
@@ -483,6 +491,7 @@ impl<'a> PathSolver<'a> {
         let mut diffs: Vec<Vec<f64>> = Vec::new();
         let mut estimate: Option<Vec<f64>> = None;
         let mut met = false;
+        let mut stop = "max_levels".to_string();
         // The estimate's history starts where every contact edge is fitted
         // (`regime`: the first difference between two fitted levels; the
         // change onto the first fitted level is one of regime, not of
@@ -516,6 +525,7 @@ impl<'a> PathSolver<'a> {
                         "adapt {pressure:e} Pa: level {level} would have {dofs} unknowns > max_dofs"
                     );
                 }
+                stop = format!("max_dofs: level {level} would have {dofs} unknowns");
                 break;
             }
             let mut next = PathSolver::with_bodies(case, self.geometry.clone(), bodies)?;
@@ -531,18 +541,23 @@ impl<'a> PathSolver<'a> {
             let solved = match next.solve_fluxes_on_mesh(pressure, fluxes, true) {
                 Ok(r) if r.iter().all(|r| r.converged) => r,
                 other => {
+                    let why = match other {
+                        Ok(r) => r
+                            .iter()
+                            .find_map(|r| match &r.status {
+                                Status::Failed(m) => Some(m.clone()),
+                                Status::Converged => None,
+                            })
+                            .unwrap_or_default(),
+                        Err(e) => e.to_string(),
+                    };
                     if trace {
-                        let why = match other {
-                            Ok(r) => {
-                                format!("{:?}", r.iter().map(|r| &r.status).collect::<Vec<_>>())
-                            }
-                            Err(e) => e.to_string(),
-                        };
                         eprintln!(
                             "adapt {pressure:e} Pa: level {level} failed ({why}); keeping level {}",
                             level - 1
                         );
                     }
+                    stop = format!("level {level} failed: {why}");
                     break;
                 }
             };
@@ -591,6 +606,7 @@ impl<'a> PathSolver<'a> {
             estimate = Some(est);
             fine = Some(next);
             if met {
+                stop = "target met".into();
                 break;
             }
         }
@@ -618,6 +634,7 @@ impl<'a> PathSolver<'a> {
         for (i, r) in best.iter_mut().enumerate() {
             r.jump_error = estimate.as_ref().map(|e| e[i]);
             r.error_target_met = Some(met);
+            r.refinement_stop = Some(stop.clone());
             r.newton_iterations = iterations;
         }
         Ok(best)
