@@ -1907,7 +1907,11 @@ impl ContactInterface {
     }
 
     /// Adds the contact element of slave node `i` to `k` (column-major, n×n) and `r`.
-    /// `layout` says which multipliers the element carries (see [`ContactInterface::element_eqs`]).
+    /// `unknowns` says which multipliers the element carries (see
+    /// [`ContactInterface::element_eqs`]); with `hessians`
+    /// ([`ContactInterface::hessian_weights`], 3D tangents) the points'
+    /// Hessians are assembled point-major, each once, by the node carrying
+    /// the point.
     pub fn element(
         &self,
         i: usize,
