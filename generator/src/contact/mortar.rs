@@ -204,6 +204,14 @@ pub struct HessianWeights {
     jump: Vec<f64>,
 }
 
+/// Adds the weight `w` of node `i` to `pairs` (one entry per node).
+fn add_weight(pairs: &mut Vec<(usize, f64)>, i: usize, w: f64) {
+    match pairs.iter_mut().find(|(j, _)| *j == i) {
+        Some(e) => e.1 += w,
+        None => pairs.push((i, w)),
+    }
+}
+
 /// Integration points and what each slave node sees of them.
 #[derive(Clone, Debug, Default)]
 struct PointSet {
@@ -232,10 +240,7 @@ impl PointSet {
             let mut out: Vec<(usize, f64)> = Vec::new();
             for (i, w) in pairs {
                 let i = copy_of[i];
-                match out.iter_mut().find(|(j, _)| *j == i) {
-                    Some(e) => e.1 += w,
-                    None => out.push((i, w)),
-                }
+                add_weight(&mut out, i, w);
             }
             out
         };
@@ -614,11 +619,7 @@ impl ContactInterface {
             let jac = dx_ref[0].hypot(dx_ref[1]);
             let mut nodes: Vec<(usize, f64)> = Vec::new();
             for (&c, &n) in basis.indices.iter().zip(&basis.values) {
-                let c = self.copy_of[c];
-                match nodes.iter_mut().find(|(j, _)| *j == c) {
-                    Some(e) => e.1 += n * jac,
-                    None => nodes.push((c, n * jac)),
-                }
+                add_weight(&mut nodes, self.copy_of[c], n * jac);
             }
             out.push(BreakTerm {
                 nodes,
@@ -1466,10 +1467,7 @@ impl ContactInterface {
                         _ => i,
                     };
                     let w = sp.weight * sp.basis[a];
-                    match pairs.iter_mut().find(|(j, _)| *j == to) {
-                        Some(e) => e.1 += w,
-                        None => pairs.push((to, w)),
-                    }
+                    add_weight(&mut pairs, to, w);
                 }
                 pairs
             })
