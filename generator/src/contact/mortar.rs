@@ -1400,11 +1400,13 @@ impl ContactInterface {
         let n = ZONE_CELLS;
         // Per element: the sub-cells in the zone (parameters, parametric area).
         let mut inside: Vec<Vec<([f64; 2], f64)>> = vec![Vec::new(); els.len()];
-        level.visit_cells(self, state, n, |e, xi, _, is_in| {
-            if is_in {
-                let el = &els[e];
-                let cell = (el.upper[0] - el.lower[0]) * (el.upper[1] - el.lower[1]);
-                inside[e].push((xi, cell / (n * n) as f64));
+        let mut full = vec![0usize; els.len()];
+        level.visit_cells(self, state, n, |e, xi, fraction, _| {
+            let el = &els[e];
+            let cell = (el.upper[0] - el.lower[0]) * (el.upper[1] - el.lower[1]);
+            inside[e].push((xi, fraction * cell / (n * n) as f64));
+            if fraction == 1.0 {
+                full[e] += 1;
             }
         });
         let reached: BTreeSet<usize> = inside
@@ -1415,9 +1417,9 @@ impl ContactInterface {
             .collect();
         let whole: Vec<bool> = els
             .iter()
-            .zip(&inside)
-            .map(|(el, cells)| {
-                cells.len() == n * n
+            .enumerate()
+            .map(|(e, el)| {
+                full[e] == n * n
                     || el
                         .functions
                         .iter()
@@ -1636,6 +1638,23 @@ impl ContactInterface {
         self.contact_zone(&ind, state).edges_fitted
     }
 
+    /// The nodal data of the edge fits (2D [`ContactInterface::locate_edge`],
+    /// 3D `edge3d`) for the nodes `index`: `λN^I` where in contact,
+    /// `3E* g^J/(4h)` elsewhere (`g^J = −indicator/εc`), `h` the edge
+    /// element's size, so that both are pressures of one amplitude `A`.
+    fn edge_fit_data(&self, index: &[usize], ind: &[f64], e_star: f64, h: f64) -> Vec<f64> {
+        index
+            .iter()
+            .map(|&c| {
+                if ind[c] > 0.0 {
+                    ind[c]
+                } else {
+                    -3.0 * e_star * ind[c] / (self.zone_augmentation() * 4.0 * h)
+                }
+            })
+            .collect()
+    }
+
     /// The contact edge near a zero crossing `ξc` (in slave face element
     /// `e`) of the interpolated indicator, from the near-edge asymptotics of
     /// frictionless elastic contact: pressure `A √s` at a distance `s`
@@ -1719,17 +1738,7 @@ impl ContactInterface {
         let area: Vec<f64> = (0..index.len())
             .map(|m| points.iter().map(|p| p.2 * p.3[m]).sum())
             .collect();
-        // Data: λN^I inside, 3E* g^J/(4h) outside (g^J = −indicator/εc).
-        let data: Vec<f64> = index
-            .iter()
-            .map(|&c| {
-                if ind[c] > 0.0 {
-                    ind[c]
-                } else {
-                    -3.0 * e_star * ind[c] / (self.zone_augmentation() * 4.0 * length_e)
-                }
-            })
-            .collect();
+        let data = self.edge_fit_data(&index, ind, e_star, length_e);
         let at = |xi: f64| -> Option<[f64; 2]> {
             let k = (0..elements.len())
                 .find(|&k| elements[k].lower[0] <= xi && xi <= elements[k].upper[0])?;
@@ -1772,18 +1781,7 @@ impl ContactInterface {
                 }
             }
             model.iter_mut().zip(&area).for_each(|(v, a)| *v /= a);
-            let mm: f64 = model.iter().map(|v| v * v).sum();
-            if mm <= 0.0 {
-                return None;
-            }
-            let amp = model.iter().zip(&data).map(|(v, d)| v * d).sum::<f64>() / mm;
-            Some(
-                model
-                    .iter()
-                    .zip(&data)
-                    .map(|(v, d)| (d - amp * v).powi(2))
-                    .sum(),
-            )
+            amplitude_misfit(&model, &data)
         };
         // The zone stays on the supports of the in-contact nodes (beyond
         // them its test functions would have no in-contact heir).
@@ -2260,6 +2258,23 @@ impl ContactInterface {
             }
         }
     }
+}
+
+/// `min_A |data − A model|²`, the squared misfit of the best amplitude
+/// (`None` for a vanishing model).
+fn amplitude_misfit(model: &[f64], data: &[f64]) -> Option<f64> {
+    let mm: f64 = model.iter().map(|v| v * v).sum();
+    if mm <= 0.0 {
+        return None;
+    }
+    let amp = model.iter().zip(data).map(|(v, d)| v * d).sum::<f64>() / mm;
+    Some(
+        model
+            .iter()
+            .zip(data)
+            .map(|(v, d)| (d - amp * v).powi(2))
+            .sum(),
+    )
 }
 
 /// The minimizer of `f` on `[lo, hi]` (`None` where `f` is undefined):

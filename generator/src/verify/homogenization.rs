@@ -874,14 +874,30 @@ fn hbp_validation() -> Result<Vec<Check>> {
 /// node changes sides. The slave and master meshes do not match in y; with
 /// matching ones the cell is singular unless the periodic copies of the
 /// slave nodes share their multipliers (`tests/periodic_seams.rs`).
+///
+/// With the contact zone (`thermal_zone = true`) each dimension fits its
+/// zone's edges on its own (2D `locate_edge`, 3D `edge3d`: the same nodal
+/// values, the 3D zone integrated on cut sub-cells), so the jumps agree to
+/// the edges' discretization, within 1 %: on the seam, two levels, 0.46 %
+/// and 0.83 % at 30 / 100 kPa (before the 3D straight edges were fitted to
+/// the nodal values: 0.20 % and 1.54 %, and 7.3 % and 4.6 % on level 1).
 fn ridges_plane_strain() -> Result<Vec<Check>> {
     use std::f64::consts::PI;
     let case = "plane_strain_ridges_3d";
     let levels = if long_runs() { 3 } else { 2 };
-    let phases: &[(f64, &str)] = if long_runs() {
-        &[(0.0, "crests on the seam"), (PI, "crests mid-cell")]
+    // (phase, label, thermal zone)
+    let configurations: &[(f64, &str, bool)] = if long_runs() {
+        &[
+            (0.0, "crests on the seam", false),
+            (0.0, "crests on the seam, contact zone", true),
+            (PI, "crests mid-cell", false),
+            (PI, "crests mid-cell, contact zone", true),
+        ]
     } else {
-        &[(0.0, "crests on the seam")]
+        &[
+            (0.0, "crests on the seam", false),
+            (0.0, "crests on the seam, contact zone", true),
+        ]
     };
     let solve = |s: &Sample| -> Result<Vec<PointResult>> {
         let mut c = s.case()?;
@@ -898,12 +914,13 @@ fn ridges_plane_strain() -> Result<Vec<Check>> {
         }
     };
     let mut checks = Vec::new();
-    for &(phase, label) in phases {
+    for &(phase, label, zone) in configurations {
         let two = Sample {
             upper: sinusoid(1.0e-6, 1.0e-5, phase),
             elements: ([16, 8], [14, 7]),
-            contact: "thermal = \"constraint\"\ninterface_points = 4\nthermal_zone = false\n"
-                .into(),
+            contact: format!(
+                "thermal = \"constraint\"\ninterface_points = 4\nthermal_zone = {zone}\n"
+            ),
             pressures: vec![3.0e4, 1.0e5],
             ..Sample::default()
         };
@@ -914,7 +931,18 @@ fn ridges_plane_strain() -> Result<Vec<Check>> {
             ..two.clone()
         };
         let (plane, solid) = (solve(&two)?, solve(&three)?);
-        compare_plane_strain(case, label, levels, &plane, &solid, &mut checks);
+        // The zones' edges are fitted in each dimension on its own, to the
+        // same nodal values (3D: `edge3d::fit_straight_edge`).
+        let jump_tolerance = if zone { 1e-2 } else { 2e-3 };
+        compare_plane_strain(
+            case,
+            label,
+            levels,
+            jump_tolerance,
+            &plane,
+            &solid,
+            &mut checks,
+        );
     }
     Ok(checks)
 }
@@ -924,6 +952,7 @@ fn compare_plane_strain(
     case: &str,
     label: &str,
     levels: usize,
+    jump_tolerance: f64,
     plane: &[PointResult],
     solid: &[PointResult],
     checks: &mut Vec<Check>,
@@ -931,7 +960,7 @@ fn compare_plane_strain(
     for (a, b) in plane.iter().zip(solid) {
         let at = format!("{label}, {:.0} kPa, {levels} levels", a.pressure / 1e3);
         for (what, three_d, two_d, tol) in [
-            ("jump", b.jump, a.jump, 2e-3),
+            ("jump", b.jump, a.jump, jump_tolerance),
             ("mean gap", b.interface.mean_gap, a.interface.mean_gap, 2e-3),
             ("approach", b.interface.approach, a.interface.approach, 2e-3),
             (

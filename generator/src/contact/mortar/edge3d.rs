@@ -23,11 +23,12 @@
 //!   the contact integration points near the edge: the points in the
 //!   supports of the element's nodes out of contact whose nearest segment
 //!   is the element's own (one profile along the normal) and which lie
-//!   `[0.25, 2]` elements outside the crossing (where the gap is clearly
-//!   open), against `G(t)`, `t = −(φ + δ)` where positive, `G` the gap's
-//!   shape ([`gap_profile`]: `t^(3/2)` at a straight edge, Hertz's gap
-//!   outside a spot whose radius is fitted to the curve's segments, the
-//!   penny-shaped gap inside a closing gap). Only open gaps are fitted: in
+//!   `[0.25, 2]` element sizes outside the crossing (where the gap is
+//!   clearly open; sizes along the edge normal, `ElementSides::along`),
+//!   against `G(t)`, `t = −(φ + δ)` where positive, `G` the gap's shape
+//!   ([`gap_profile`]: `t^(3/2)` at a straight edge, Hertz's gap outside a
+//!   spot whose radius is fitted to the curve's segments, the penny-shaped
+//!   gap inside a closing gap). Only open gaps are fitted: in
 //!   3D the lumped pressures carry a checkerboard mode (`docs/validation.md`,
 //!   3D Hertz), and inside the edge the point gaps oscillate about zero with
 //!   it (the lumped constraint (4.8) holds on average over a support).
@@ -49,6 +50,7 @@ use std::collections::BTreeSet;
 
 use super::{ContactInterface, EDGE_MIN_RANGE};
 use crate::basis::{RationalBasis, TensorBasis};
+use crate::quadrature::GaussLegendre;
 
 /// A crossing curve of larger radius (in element sizes) is straight.
 const STRAIGHT_RADIUS: f64 = 20.0;
@@ -96,6 +98,74 @@ struct Segment {
     b: [f64; 2],
     element: usize,
 }
+
+/// A slave element's two sides `a = ∂x/∂ξ₁ Δξ₁`, `b = ∂x/∂ξ₂ Δξ₂` in the
+/// mean plane (at its centre).
+#[derive(Clone, Copy, Debug)]
+struct ElementSides([[f64; 2]; 2]);
+
+impl ElementSides {
+    /// The element's size along the unit direction `n`: `1/|A⁻¹ n|`,
+    /// `A = [a b]` (the mesh metric `A⁻ᵀ A⁻¹`), the side length for a
+    /// rectangle's axes and the same in every direction for a square. The
+    /// edge's asymptotics and fit band are measured along the edge normal,
+    /// which on anisotropic elements (ridges on 2 elements along y) differs
+    /// from `√(area)` by the aspect ratio.
+    fn along(&self, n: [f64; 2]) -> f64 {
+        let [a, b] = self.0;
+        let det = a[0] * b[1] - b[0] * a[1];
+        let inv_n = [
+            (b[1] * n[0] - b[0] * n[1]) / det,
+            (-a[1] * n[0] + a[0] * n[1]) / det,
+        ];
+        1.0 / inv_n[0].hypot(inv_n[1])
+    }
+}
+
+/// A point of the crossing curve with its normal, about a slave element.
+struct EdgeFrame {
+    /// The element's centre (parameters).
+    centre: [f64; 2],
+    /// The indicator at the centre.
+    at: IndicatorPoint,
+    /// The element's sides (mean plane).
+    sides: ElementSides,
+    /// The midpoint of the element's segment nearest its centre.
+    mid: [f64; 2],
+    /// The unit normal of that segment, into contact.
+    normal: [f64; 2],
+}
+
+impl EdgeFrame {
+    /// The element's size along the normal.
+    fn size(&self) -> f64 {
+        self.sides.along(self.normal)
+    }
+
+    /// The parameters of the point at `t` along the normal from `mid`
+    /// (the mapping linearized at the element's centre).
+    fn param(&self, level: &ContactLevel3d, t: f64) -> [f64; 2] {
+        let to = level.offset([0, 1].map(|d| self.mid[d] + t * self.normal[d]), self.at.x);
+        let dxi = self.at.param_offset(to);
+        [self.centre[0] + dxi[0], self.centre[1] + dxi[1]]
+    }
+
+    /// The signed distance of `x` from the straight crossing line through
+    /// `mid` (positive in contact).
+    fn distance(&self, level: &ContactLevel3d, x: [f64; 2]) -> f64 {
+        let o = level.offset(x, self.mid);
+        o[0] * self.normal[0] + o[1] * self.normal[1]
+    }
+}
+
+/// Gauss points per direction and element of the nodal edge fit's supports.
+const FIT_POINTS: usize = 12;
+
+/// Samples per element size when measuring the ranges in and out of contact.
+const RANGE_STEPS: usize = 4;
+
+/// The farthest a range is followed (element sizes).
+const RANGE_SIZES: f64 = 256.0;
 
 /// The contact area's level set on the slave surface (3D; module docs).
 #[derive(Clone, Debug)]
@@ -246,40 +316,100 @@ impl ContactLevel3d {
     }
 
     /// The area in contact projected on the mean plane: the midpoint rule
-    /// on `n × n` sub-cells of every slave element.
+    /// on `n × n` sub-cells of every slave element, the cells the edge cuts
+    /// by their part in contact ([`ContactLevel3d::visit_cells`]).
     pub(crate) fn area(&self, iface: &ContactInterface, state: &[f64], n: usize) -> f64 {
         let mut area = 0.0;
-        self.visit_cells(iface, state, n, |_, _, cell, inside| {
-            if inside {
-                area += cell;
-            }
+        self.visit_cells(iface, state, n, |_, _, fraction, cell| {
+            area += fraction * cell
         });
         area
     }
 
-    /// Visits the `n × n` sub-cells of every slave element with the
-    /// element, the cell's centre (parameters), its area projected on the
-    /// mean plane (midpoint rule) and whether its centre is in contact.
+    /// Visits the `n × n` sub-cells of every slave element that are in
+    /// contact, wholly or in part, with the element, the centroid
+    /// (parameters) of the cell's part in contact, that part's fraction of
+    /// the cell, and the cell's area projected on the mean plane (midpoint
+    /// rule). Near the crossing curve the level is also taken at the cells'
+    /// corners; in a cell whose corners differ in sign the part in contact
+    /// is that of the level interpolated bilinearly from its corners
+    /// (sampled on [`CUT_SAMPLES`]² points): the level is a signed distance
+    /// there, nearly linear across a cell, so the edge's position is
+    /// resolved to a fraction of a cell rather than to a whole one.
     pub(crate) fn visit_cells(
         &self,
         iface: &ContactInterface,
         state: &[f64],
         n: usize,
-        mut visit: impl FnMut(usize, [f64; 2], f64, bool),
+        mut visit: impl FnMut(usize, [f64; 2], f64, f64),
     ) {
         let mut probe = Probe::new(iface, &self.ind, state);
+        let mut corners = vec![0.0; (n + 1) * (n + 1)];
         for (e, el) in iface.slave_face.elements().iter().enumerate() {
             let h = [0, 1].map(|d| (el.upper[d] - el.lower[d]) / n as f64);
+            let near_edge = !self.near[e].is_empty();
+            if near_edge {
+                for (k, c) in corners.iter_mut().enumerate() {
+                    let xi = [
+                        el.lower[0] + h[0] * (k % (n + 1)) as f64,
+                        el.lower[1] + h[1] * (k / (n + 1)) as f64,
+                    ];
+                    *c = self.level(e, &probe.at(e, xi));
+                }
+            }
             for k in 0..n * n {
+                let (i, j) = (k % n, k / n);
                 let xi = [
-                    el.lower[0] + h[0] * ((k % n) as f64 + 0.5),
-                    el.lower[1] + h[1] * ((k / n) as f64 + 0.5),
+                    el.lower[0] + h[0] * (i as f64 + 0.5),
+                    el.lower[1] + h[1] * (j as f64 + 0.5),
                 ];
                 let p = probe.at(e, xi);
-                visit(e, xi, p.det().abs() * h[0] * h[1], self.level(e, &p) > 0.0);
+                let cell = p.det().abs() * h[0] * h[1];
+                let centre_in = self.level(e, &p) > 0.0;
+                let c = near_edge.then(|| {
+                    let at = |a: usize, b: usize| corners[(j + b) * (n + 1) + i + a];
+                    [at(0, 0), at(1, 0), at(0, 1), at(1, 1)]
+                });
+                match c {
+                    Some(c) if c.iter().any(|&v| v > 0.0) && c.iter().any(|&v| v <= 0.0) => {
+                        if let Some((fraction, at)) = bilinear_part_in_contact(c, CUT_SAMPLES) {
+                            let centroid =
+                                [0, 1].map(|d| el.lower[d] + h[d] * ([i, j][d] as f64 + at[d]));
+                            visit(e, centroid, fraction, cell);
+                        }
+                    }
+                    _ if centre_in => visit(e, xi, 1.0, cell),
+                    _ => {}
+                }
             }
         }
     }
+}
+
+/// Samples per direction of the bilinear level in a cell the edge cuts.
+const CUT_SAMPLES: usize = 16;
+
+/// The part in contact (level `> 0`) of the unit square for the level
+/// interpolated bilinearly from its corners `c` (`(0,0)`, `(1,0)`, `(0,1)`,
+/// `(1,1)`): its area fraction and centroid by the midpoint rule on `m × m`
+/// samples (exact to `1/(2m)` of the side for a straight edge); `None` if
+/// no sample is in contact.
+fn bilinear_part_in_contact(c: [f64; 4], m: usize) -> Option<(f64, [f64; 2])> {
+    let (mut count, mut sum) = (0usize, [0.0; 2]);
+    for q in 0..m * m {
+        let s = ((q % m) as f64 + 0.5) / m as f64;
+        let t = ((q / m) as f64 + 0.5) / m as f64;
+        let v = (1.0 - t) * ((1.0 - s) * c[0] + s * c[1]) + t * ((1.0 - s) * c[2] + s * c[3]);
+        if v > 0.0 {
+            count += 1;
+            sum[0] += s;
+            sum[1] += t;
+        }
+    }
+    (count > 0).then(|| {
+        let n = count as f64;
+        (n / (m * m) as f64, [sum[0] / n, sum[1] / n])
+    })
 }
 
 /// Evaluates the indicator on the slave face (scratch space held).
@@ -338,13 +468,14 @@ impl<'a> Probe<'a> {
     }
 
     /// The centre (parameters) of element `e`, the indicator there, and the
-    /// element's size `√(area)` in the mean plane (from the centre's Jacobian).
-    fn at_centre(&mut self, e: usize) -> ([f64; 2], IndicatorPoint, f64) {
+    /// element's mapped sides in the mean plane (from the centre's Jacobian).
+    fn at_centre(&mut self, e: usize) -> ([f64; 2], IndicatorPoint, ElementSides) {
         let el = &self.iface.slave_face.elements()[e];
         let centre = [0, 1].map(|d| 0.5 * (el.lower[d] + el.upper[d]));
-        let area = (el.upper[0] - el.lower[0]) * (el.upper[1] - el.lower[1]);
+        let span = [0, 1].map(|d| el.upper[d] - el.lower[d]);
         let p = self.at(e, centre);
-        (centre, p, (p.det().abs() * area).sqrt())
+        let sides = ElementSides([0, 1].map(|d| [p.jac[0][d] * span[d], p.jac[1][d] * span[d]]));
+        (centre, p, sides)
     }
 
     /// The indicator at the parameters `xi` of the face, continued beyond
@@ -456,10 +587,24 @@ impl ContactInterface {
                 of_element: &of_element,
             };
             for e in 0..n_el {
-                if level.by_element[e].is_empty() || !self.wide_both_sides(&mut probe, &level, e) {
+                if level.by_element[e].is_empty() {
                     continue;
                 }
-                level.shift[e] = self.fit_shift(&mut probe, &level, e, &supports, state);
+                let Some(frame) = self.edge_frame(&mut probe, &level, e) else {
+                    continue;
+                };
+                if !self.wide_both_sides(&mut probe, &level, &frame) {
+                    continue;
+                }
+                let h = frame.size();
+                let radius = level.radius(e, h, frame.normal);
+                level.shift[e] = match radius {
+                    None => {
+                        let widths = self.range_widths(&mut probe, &level, &frame);
+                        self.fit_straight_edge(&mut probe, &level, e, &frame, widths, &ind)
+                    }
+                    _ => self.fit_shift(&level, e, (radius, h), &supports, state, &ind),
+                };
             }
         }
         level.ind = ind;
@@ -478,13 +623,12 @@ impl ContactInterface {
         level.level(e, &Probe::new(self, &level.ind, state).at(e, xi))
     }
 
-    /// Whether the indicator keeps its sign up to [`EDGE_MIN_RANGE`]
-    /// element sizes on both sides of the crossing curve in element `e`,
-    /// along the normal of its segment nearest the element's centre (the
-    /// asymptotics hold a few elements from the other edge only).
-    fn wide_both_sides(&self, probe: &mut Probe, level: &ContactLevel3d, e: usize) -> bool {
-        let (centre, p, size) = probe.at_centre(e);
-        let Some((mid, tangent)) = level.by_element[e]
+    /// The crossing curve at slave element `e`: its segment nearest the
+    /// element's centre, with the normal into contact (`None` without a
+    /// segment of positive length).
+    fn edge_frame(&self, probe: &mut Probe, level: &ContactLevel3d, e: usize) -> Option<EdgeFrame> {
+        let (centre, at, sides) = probe.at_centre(e);
+        let (mid, tangent) = level.by_element[e]
             .iter()
             .map(|&s| {
                 let seg = &level.segments[s];
@@ -493,34 +637,49 @@ impl ContactInterface {
             })
             .min_by(|a, b| {
                 let d = |m: [f64; 2]| {
-                    let o = level.offset(m, p.x);
+                    let o = level.offset(m, at.x);
                     o[0].hypot(o[1])
                 };
                 d(a.0).total_cmp(&d(b.0))
-            })
-        else {
-            return false;
-        };
+            })?;
         let length = tangent[0].hypot(tangent[1]);
-        if length <= 0.0 {
-            return false;
+        if length.is_nan() || length <= 0.0 {
+            return None;
         }
-        let mut normal = [-tangent[1] / length, tangent[0] / length];
-        // The parameters of the point at `t` along the normal from `mid`.
-        let param = |normal: [f64; 2], t: f64| {
-            let to = level.offset([0, 1].map(|d| mid[d] + t * normal[d]), p.x);
-            let dxi = p.param_offset(to);
-            [centre[0] + dxi[0], centre[1] + dxi[1]]
+        let mut frame = EdgeFrame {
+            centre,
+            at,
+            sides,
+            mid,
+            normal: [-tangent[1] / length, tangent[0] / length],
         };
         // Into contact.
-        if probe.at_param(param(normal, 0.25 * size)).value <= 0.0 {
-            normal = normal.map(|v| -v);
+        if probe
+            .at_param(frame.param(level, 0.25 * frame.size()))
+            .value
+            <= 0.0
+        {
+            frame.normal = frame.normal.map(|v| -v);
         }
+        Some(frame)
+    }
+
+    /// Whether the indicator keeps its sign up to [`EDGE_MIN_RANGE`]
+    /// element sizes (along the normal) on both sides of the crossing curve
+    /// at `frame`, sampled at whole sizes (the asymptotics hold a few
+    /// elements from the other edge only).
+    fn wide_both_sides(
+        &self,
+        probe: &mut Probe,
+        level: &ContactLevel3d,
+        frame: &EdgeFrame,
+    ) -> bool {
+        let size = frame.size();
         let steps = EDGE_MIN_RANGE.ceil() as usize;
         for side in [1.0, -1.0] {
             for k in 1..=steps {
                 let t = side * k as f64 * size;
-                if (probe.at_param(param(normal, t)).value > 0.0) != (side > 0.0) {
+                if (probe.at_param(frame.param(level, t)).value > 0.0) != (side > 0.0) {
                     return false;
                 }
             }
@@ -528,19 +687,57 @@ impl ContactInterface {
         true
     }
 
-    /// The shift `δ` of the edge in slave element `e` fitted to the point
-    /// gaps just outside it, in the configuration `state` (module docs).
-    fn fit_shift(
+    /// The widths of the ranges in and out of contact across the crossing
+    /// at `frame`: the distances along its normal to the next sign change of
+    /// the indicator on either side (sampled at [`RANGE_STEPS`] per element
+    /// size, up to one period or [`RANGE_SIZES`] sizes).
+    fn range_widths(
         &self,
         probe: &mut Probe,
         level: &ContactLevel3d,
+        frame: &EdgeFrame,
+    ) -> [f64; 2] {
+        let size = frame.size();
+        let step = size / RANGE_STEPS as f64;
+        let max = level
+            .period
+            .unwrap_or(f64::INFINITY)
+            .min(RANGE_SIZES * size);
+        let start = frame.param(level, 0.0);
+        [1.0, -1.0].map(|side| {
+            // Along the normal in the mean plane, the mapping linearized at
+            // each sample (finite strain stretches the surface laterally).
+            let dx = frame.normal.map(|v| side * step * v);
+            let mut xi = start;
+            let mut t = 0.0;
+            while t < max {
+                let p = probe.at_param(xi);
+                if t > 0.0 && (p.value > 0.0) != (side > 0.0) {
+                    return t - 0.5 * step;
+                }
+                let d = p.param_offset(dx);
+                xi = [xi[0] + d[0], xi[1] + d[1]];
+                t += step;
+            }
+            max
+        })
+    }
+
+    /// The shift `δ` of the edge in slave element `e` fitted to the point
+    /// gaps just outside it, in the configuration `state` (module docs), for
+    /// the crossing curve's radius (`None`: straight) and the element size
+    /// `h` along its normal: spots and gaps, whose curvature the gap
+    /// profile takes in ([`gap_profile`]); straight edges are fitted to the
+    /// nodal values ([`ContactInterface::fit_straight_edge`]).
+    fn fit_shift(
+        &self,
+        level: &ContactLevel3d,
         e: usize,
+        (radius, h): (Option<f64>, f64),
         supports: &Supports,
         state: &[f64],
+        ind: &[f64],
     ) -> Option<f64> {
-        let ind = probe.ind;
-        let (_, at_centre, h) = probe.at_centre(e);
-        let radius = level.radius(e, h, at_centre.grad);
         let elements: BTreeSet<usize> = self.slave_face.elements()[e]
             .functions
             .iter()
@@ -606,5 +803,146 @@ impl ContactInterface {
             })
         };
         super::minimize_on(misfit, -1.5 * h, 1.5 * h, 64)
+    }
+
+    /// The shift `δ` of a straight edge in slave element `e` fitted as in
+    /// 2D (`ContactInterface::locate_edge`) to the nodal values of the
+    /// lumped mortar (4.8) about it: the pressures `λN^I` of the nodes in
+    /// contact against `A ⟨N^I √s⟩/⟨N^I⟩` and the weighted gaps `g^J` of
+    /// the others against `(4A/3E*) ⟨N^J t^(3/2)⟩/⟨N^J⟩`, `s`, `t` the
+    /// distances inside and outside the edge (the line of `frame` moved by
+    /// `δ` along its normal), replaced by `s (1 − s/L)` with `L` the range's
+    /// width (`widths`: in, out), the supports' integrals by the contact
+    /// points. The nodes: those of the elements within one element of the
+    /// crossing at `frame`.
+    #[allow(clippy::too_many_arguments)]
+    fn fit_straight_edge(
+        &self,
+        probe: &mut Probe,
+        level: &ContactLevel3d,
+        e: usize,
+        frame: &EdgeFrame,
+        widths: [f64; 2],
+        ind: &[f64],
+    ) -> Option<f64> {
+        let e_star = self.e_star?;
+        let h = frame.size();
+        let elements = self.slave_face.elements();
+        // The elements within one element (parameters) of the crossing.
+        let xi_c = frame.param(level, 0.0);
+        let span = [0, 1].map(|d| elements[e].upper[d] - elements[e].lower[d]);
+        let near = |k: usize| {
+            (0..2).all(|d| {
+                let (lo, hi) = (
+                    xi_c[d] - (1.0 + 1e-6) * span[d],
+                    xi_c[d] + (1.0 + 1e-6) * span[d],
+                );
+                let (a, b) = (elements[k].lower[d], elements[k].upper[d]);
+                // Across the periodic seams (parameters wrap at 1).
+                [-1.0, 0.0, 1.0].iter().any(|w| b + w > lo && a + w < hi)
+            })
+        };
+        let nodes: BTreeSet<usize> = (0..elements.len())
+            .filter(|&k| near(k))
+            .flat_map(|k| elements[k].functions.iter().map(|&c| self.copy_of[c]))
+            .collect();
+        if !nodes.iter().any(|&c| ind[c] > 0.0) || nodes.iter().all(|&c| ind[c] > 0.0) {
+            return None;
+        }
+        let index: Vec<usize> = nodes.iter().copied().collect();
+        // The supports' points: (φ, weight, N of each node).
+        let support: BTreeSet<usize> = elements
+            .iter()
+            .enumerate()
+            .filter(|(_, el)| {
+                el.functions
+                    .iter()
+                    .any(|c| nodes.contains(&self.copy_of[*c]))
+            })
+            .map(|(k, _)| k)
+            .collect();
+        let rule = GaussLegendre::new(FIT_POINTS);
+        let mut points: Vec<(f64, f64, Vec<f64>)> = Vec::new();
+        for &k in &support {
+            let el = &elements[k];
+            let (lo, hi) = (el.lower, el.upper);
+            for (&u, &wu) in rule.points.iter().zip(&rule.weights) {
+                for (&v, &wv) in rule.points.iter().zip(&rule.weights) {
+                    let xi = [
+                        0.5 * (lo[0] + hi[0]) + 0.5 * (hi[0] - lo[0]) * u,
+                        0.5 * (lo[1] + hi[1]) + 0.5 * (hi[1] - lo[1]) * v,
+                    ];
+                    let p = probe.at(k, xi);
+                    let w = 0.25 * (hi[0] - lo[0]) * (hi[1] - lo[1]) * wu * wv * p.det().abs();
+                    let mut n = vec![0.0; index.len()];
+                    for (&c, &nc) in probe.basis.indices.iter().zip(&probe.basis.values) {
+                        if let Ok(m) = index.binary_search(&self.copy_of[c]) {
+                            n[m] += nc;
+                        }
+                    }
+                    points.push((frame.distance(level, p.x), w, n));
+                }
+            }
+        }
+        let area: Vec<f64> = (0..index.len())
+            .map(|m| points.iter().map(|p| p.1 * p.2[m]).sum())
+            .collect();
+        let data = self.edge_fit_data(&index, ind, e_star, h);
+        let misfit = |delta: f64| -> Option<f64> {
+            let mut model = vec![0.0; index.len()];
+            for (phi, w, n) in &points {
+                let d = phi + delta;
+                let inside = d > 0.0;
+                let d =
+                    d.abs() * (1.0 - d.abs() / if inside { widths[0] } else { widths[1] }).max(0.0);
+                let f = if inside { d.sqrt() } else { d.powf(1.5) / h };
+                for (m, &c) in index.iter().enumerate() {
+                    if n[m] != 0.0 && (ind[c] > 0.0) == inside {
+                        model[m] += w * n[m] * f;
+                    }
+                }
+            }
+            model.iter_mut().zip(&area).for_each(|(v, a)| *v /= a);
+            super::amplitude_misfit(&model, &data)
+        };
+        super::minimize_on(misfit, -1.5 * h, 1.5 * h, 96)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn element_size_along_a_direction_follows_the_mesh_metric() {
+        // A 0.5 × 4 rectangle: its sides along the axes, between them by
+        // the metric; a square (rotated) the same in every direction.
+        let rect = ElementSides([[0.5, 0.0], [0.0, 4.0]]);
+        assert!((rect.along([1.0, 0.0]) - 0.5).abs() < 1e-15);
+        assert!((rect.along([0.0, -1.0]) - 4.0).abs() < 1e-15);
+        let d = std::f64::consts::FRAC_1_SQRT_2;
+        let expect = 1.0 / (0.5 / 0.25 + 0.5 / 16.0f64).sqrt();
+        assert!((rect.along([d, d]) - expect).abs() < 1e-14);
+        let (c, s) = (0.3f64.cos(), 0.3f64.sin());
+        let square = ElementSides([[2.0 * c, 2.0 * s], [-2.0 * s, 2.0 * c]]);
+        for a in [0.0, 0.7, 2.1] {
+            assert!((square.along([f64::cos(a), f64::sin(a)]) - 2.0).abs() < 1e-14);
+        }
+    }
+
+    #[test]
+    fn a_cut_cell_keeps_the_part_in_contact_of_a_straight_edge() {
+        // v = s − 0.3: in contact on s > 0.3, fraction 0.7, centroid (0.65, 0.5).
+        for m in [8, 16, 64] {
+            let (f, at) = bilinear_part_in_contact([-0.3, 0.7, -0.3, 0.7], m).unwrap();
+            let tol = 1.0 / m as f64;
+            assert!((f - 0.7).abs() <= tol, "m = {m}: fraction {f}");
+            assert!((at[0] - 0.65).abs() <= tol && (at[1] - 0.5).abs() < 1e-12);
+        }
+        // An oblique edge s + t > 1 (v = s + t − 1): half the cell, centroid (2/3, 2/3).
+        let (f, at) = bilinear_part_in_contact([-1.0, 0.0, 0.0, 1.0], 64).unwrap();
+        assert!((f - 0.5).abs() < 1.0 / 64.0, "fraction {f}");
+        assert!((at[0] - 2.0 / 3.0).abs() < 1.0 / 64.0 && (at[0] - at[1]).abs() < 1e-12);
+        assert!(bilinear_part_in_contact([-1.0; 4], 16).is_none());
     }
 }
