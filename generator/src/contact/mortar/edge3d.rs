@@ -39,6 +39,15 @@
 //!   stayed near the crossings (shifts −0.2 to +0.14 elements on one level)
 //!   and with two levels its area was 19.5 % short of the boundary
 //!   elements' where the gaps outside matched them (stop 23, `docs/3d.md`);
+//! - straight crossing curves (radius above [`STRAIGHT_RADIUS`] element
+//!   sizes) are fitted instead as in 2D (`ContactInterface::locate_edge`),
+//!   to the nodal pressures inside and weighted gaps outside
+//!   ([`ContactInterface::fit_straight_edge`]): on ridges the point gaps
+//!   just outside put the edge 0.07–0.12 elements inside the crossing,
+//!   while the converged (2D) edge lies outside it (stop 29,
+//!   `docs/validation.md`, plane strain);
+//! - element sizes are measured along the edge normal
+//!   (`ElementSides::along`);
 //! - the fit applies only where the indicator keeps its sign
 //!   [`EDGE_MIN_RANGE`] elements along the normal on both sides (spots and
 //!   gaps at least that wide, as in 2D); other elements keep the crossing.
@@ -185,11 +194,14 @@ pub(crate) struct ContactLevel3d {
     period: Option<f64>,
 }
 
-/// The slave elements of each slave node (its support) and the contact
-/// integration points of each slave element.
+/// What the point-gap fit reads: the slave elements of each slave node (its
+/// support), the contact integration points of each slave element, the
+/// nodal indicator and the configuration.
 struct Supports<'a> {
     of_function: &'a [Vec<usize>],
     of_element: &'a [Vec<usize>],
+    ind: &'a [f64],
+    state: &'a [f64],
 }
 
 /// The shape of the gap at a distance `t` outside the edge (any scale: the
@@ -585,6 +597,8 @@ impl ContactInterface {
             let supports = Supports {
                 of_function: &of_function,
                 of_element: &of_element,
+                ind: &ind,
+                state,
             };
             for e in 0..n_el {
                 if level.by_element[e].is_empty() {
@@ -603,7 +617,7 @@ impl ContactInterface {
                         let widths = self.range_widths(&mut probe, &level, &frame);
                         self.fit_straight_edge(&mut probe, &level, e, &frame, widths, &ind)
                     }
-                    _ => self.fit_shift(&level, e, (radius, h), &supports, state, &ind),
+                    _ => self.fit_shift(&level, e, radius, h, &supports),
                 };
             }
         }
@@ -724,7 +738,7 @@ impl ContactInterface {
     }
 
     /// The shift `δ` of the edge in slave element `e` fitted to the point
-    /// gaps just outside it, in the configuration `state` (module docs), for
+    /// gaps just outside it (module docs), for
     /// the crossing curve's radius (`None`: straight) and the element size
     /// `h` along its normal: spots and gaps, whose curvature the gap
     /// profile takes in ([`gap_profile`]); straight edges are fitted to the
@@ -733,11 +747,11 @@ impl ContactInterface {
         &self,
         level: &ContactLevel3d,
         e: usize,
-        (radius, h): (Option<f64>, f64),
+        radius: Option<f64>,
+        h: f64,
         supports: &Supports,
-        state: &[f64],
-        ind: &[f64],
     ) -> Option<f64> {
+        let (ind, state) = (supports.ind, supports.state);
         let elements: BTreeSet<usize> = self.slave_face.elements()[e]
             .functions
             .iter()
@@ -812,10 +826,9 @@ impl ContactInterface {
     /// the others against `(4A/3E*) ⟨N^J t^(3/2)⟩/⟨N^J⟩`, `s`, `t` the
     /// distances inside and outside the edge (the line of `frame` moved by
     /// `δ` along its normal), replaced by `s (1 − s/L)` with `L` the range's
-    /// width (`widths`: in, out), the supports' integrals by the contact
-    /// points. The nodes: those of the elements within one element of the
+    /// width (`widths`: in, out), the supports' integrals by [`FIT_POINTS`]²
+    /// Gauss points per element. The nodes: those of the elements within one element of the
     /// crossing at `frame`.
-    #[allow(clippy::too_many_arguments)]
     fn fit_straight_edge(
         &self,
         probe: &mut Probe,
