@@ -7,6 +7,7 @@
 //! - [`kinematics3d`]: the same on master surfaces (3D), closed-form derivatives;
 //! - [`mortar`]: lumped mortar integrals (4.8), augmented Lagrangian (4.9)–(4.10),
 //!   constitutive thermal contact, continuum option;
+//! - [`pieces`]: the master face's polynomial pieces, evaluated by the projections;
 //! - [`segments`]: segment-based integration of the mortar integrals.
 
 use serde::{Deserialize, Serialize};
@@ -16,6 +17,7 @@ use crate::{Error, Result};
 pub mod kinematics;
 pub mod kinematics3d;
 pub mod mortar;
+pub mod pieces;
 pub mod projection;
 pub mod projection3d;
 pub mod segments;

@@ -41,12 +41,11 @@ use rayon::prelude::*;
 use crate::basis::{RationalBasis, TensorBasis};
 use crate::contact::kinematics::{Derivatives, Needs, PointGeometry, differentiate};
 use crate::contact::kinematics3d::SurfacePointGeometry;
+use crate::contact::pieces::FacePieces;
 use crate::contact::projection::{
     MasterCurve, MasterSamples, Projection, project, project_on_element,
 };
-use crate::contact::projection3d::{
-    self, Guess, MasterSearch, MasterSurface, SurfacePieces, SurfaceProjection,
-};
+use crate::contact::projection3d::{self, Guess, MasterSearch, MasterSurface, SurfaceProjection};
 use crate::contact::segments::{Breakpoint, Segmenter, cell_points, interval_points};
 use crate::contact::{
     ContactSettings, Integration, ThermalContact, ThermalEnforcement, ThermalMethod,
@@ -189,7 +188,7 @@ pub struct ContactInterface {
     breakpoints: Vec<Breakpoint>,
     /// Slave and master control-point positions the segmentation was made for.
     segmented_at: Vec<[f64; 3]>,
-    /// Slave and master control-point positions of the last 3D projections,
+    /// Slave and master control-point positions of the last projections,
     /// which are reused while these do not move (the thermal phase).
     projected_at: Vec<[f64; 3]>,
     /// Second-derivative terms of the weighted gaps from moving breakpoints.
@@ -432,6 +431,7 @@ impl ContactInterface {
             let master_curve = MasterCurve {
                 face: &master_face,
                 points: master_face.control_points(),
+                pieces: None,
             };
             let eta = q.xi[1 - mdir];
             let tangent = master_curve.eval(master_curve.locate(eta), eta)[1];
@@ -735,29 +735,43 @@ impl ContactInterface {
         let positions: Vec<[f64; 3]> = slave_cur.iter().chain(&master_cur).copied().collect();
         let resegment = self.segmenter.is_some() && positions != self.segmented_at;
         let face = Arc::clone(&self.master_face);
+        let mut previous = std::mem::take(&mut self.state);
+        // On a configuration that has not moved (the thermal phase) the
+        // projections are the previous ones; only the gaps and jumps are
+        // re-evaluated.
+        let unmoved =
+            !resegment && previous.len() == self.points.len() && positions == self.projected_at;
+        // The projections evaluate the curve by its polynomial pieces.
+        let pieces = (!unmoved).then(|| FacePieces::new(&face, &master_cur));
         let curve = MasterCurve {
             face: &face,
             points: &master_cur,
+            pieces: pieces.as_ref(),
         };
-        let mut previous = std::mem::take(&mut self.state);
-        let samples = MasterSamples::new(&curve);
-        if resegment {
-            self.segment(&slave_cur, &curve, &samples)?;
-            self.segmented_at = positions;
+        let samples = (!unmoved).then(|| MasterSamples::new(&curve));
+        if resegment && let Some(samples) = &samples {
+            self.segment(&slave_cur, &curve, samples)?;
+            self.segmented_at = positions.clone();
             // The points moved: no previous projection to start from.
             previous.clear();
         }
         let mut out = Vec::with_capacity(self.points.len());
         for (i, sp) in self.points.iter().enumerate() {
-            let mut xs = [0.0; 2];
-            for (a, &c) in sp.conn.iter().enumerate() {
-                xs[0] += sp.basis[a] * slave_cur[c][0];
-                xs[1] += sp.basis[a] * slave_cur[c][1];
-            }
-            let guess = previous.get(i).map(|s| s.projection.eta);
-            let pr = project(&curve, xs, guess, self.period, &samples)?;
+            let pr = match &samples {
+                None => previous[i].projection,
+                Some(samples) => {
+                    let mut xs = [0.0; 2];
+                    for (a, &c) in sp.conn.iter().enumerate() {
+                        xs[0] += sp.basis[a] * slave_cur[c][0];
+                        xs[1] += sp.basis[a] * slave_cur[c][1];
+                    }
+                    let guess = previous.get(i).map(|s| s.projection.eta);
+                    project(&curve, xs, guess, self.period, samples)?
+                }
+            };
             out.push(self.point_state(state, (&sp.basis, &sp.conn), pr, needs));
         }
+        self.projected_at = positions;
         self.state = out;
         self.break_terms = if matches!(needs, Needs::Mechanical | Needs::Coupled) {
             self.break_terms(state, &curve)
@@ -788,7 +802,7 @@ impl ContactInterface {
         let positions: Vec<[f64; 3]> = slave_cur.iter().chain(master_cur).copied().collect();
         let unmoved = previous.len() == self.points.len() && positions == self.projected_at;
         // The projections evaluate the surface by its polynomial pieces.
-        let pieces = (!unmoved).then(|| SurfacePieces::new(&face, master_cur));
+        let pieces = (!unmoved).then(|| FacePieces::new(&face, master_cur));
         let surface = MasterSurface {
             face: &face,
             points: master_cur,
@@ -1495,6 +1509,8 @@ impl ContactInterface {
     }
 
     fn swap_points(&mut self, set: PointSet) -> PointSet {
+        // The projections belong to the previous points.
+        self.projected_at.clear();
         PointSet {
             points: std::mem::replace(&mut self.points, set.points),
             node_points: std::mem::replace(&mut self.node_points, set.node_points),

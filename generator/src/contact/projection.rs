@@ -14,6 +14,7 @@
 //! the two segments).
 
 use crate::basis::{RationalBasis, TensorBasis};
+use crate::contact::pieces::FacePieces;
 use crate::geometry::ThbPatch;
 use crate::{Error, Result};
 
@@ -26,6 +27,10 @@ pub struct MasterCurve<'a> {
     pub face: &'a ThbPatch,
     /// Current control points, in the face's numbering.
     pub points: &'a [[f64; 3]],
+    /// The polynomial pieces of `face` at `points`, if built
+    /// ([`FacePieces::new`]): [`MasterCurve::eval`] then reads them instead
+    /// of the THB basis.
+    pub pieces: Option<&'a FacePieces>,
 }
 
 impl MasterCurve<'_> {
@@ -54,6 +59,13 @@ impl MasterCurve<'_> {
     /// Position and first two parametric derivatives of element `e`'s polynomial
     /// (rational) piece at `eta` (one-sided at the element's ends).
     pub fn eval(&self, e: usize, eta: f64) -> [[f64; 2]; 3] {
+        if let Some(s) = self.pieces.and_then(|p| p.at(self.face, e, &[eta])) {
+            return [
+                [s.x[0], s.x[1]],
+                [s.a[0][0], s.a[0][1]],
+                [s.aa[0][0][0], s.aa[0][0][1]],
+            ];
+        }
         let mut t = TensorBasis::default();
         let mut b = RationalBasis::default();
         self.face.element_basis_into(e, &[eta], 2, &mut t, &mut b);
@@ -361,8 +373,78 @@ mod tests {
     fn curve(c: &ThbPatch) -> MasterCurve<'_> {
         MasterCurve {
             face: c,
+            pieces: None,
             points: c.control_points(),
         }
+    }
+
+    /// The polynomial pieces are the curve: position and derivatives as the
+    /// THB basis gives them on a locally refined (truncated) curve of
+    /// degrees 1–3, the same projections; rational elements (the arc) are
+    /// left to the basis.
+    #[test]
+    fn polynomial_pieces_evaluate_the_curve() {
+        use crate::geometry::KnotVector;
+        let mut rnd = crate::contact::testing::rng(11);
+        for (p, n) in [(1, 6), (2, 5), (3, 4)] {
+            let kv = KnotVector::open_uniform(p, n, 0.0, 1.0);
+            let points: Vec<[f64; 3]> = kv
+                .greville()
+                .iter()
+                .map(|&g| [g, 0.1 * (2.0 * rnd() - 1.0), 0.0])
+                .collect();
+            let m = points.len();
+            let coarse = ThbPatch::from(&NurbsPatch::new(vec![kv], points, vec![1.0; m]).unwrap());
+            let mut mesh = coarse.mesh().clone();
+            mesh.refine_where(|_, lo, _| lo[0] < 0.45);
+            let c = coarse.with_mesh(mesh);
+            assert!(c.n_elements() > n, "refined");
+            let moved: Vec<[f64; 3]> = c
+                .control_points()
+                .iter()
+                .map(|x| [x[0] + 0.01 * rnd(), x[1] + 0.02 * rnd(), 0.0])
+                .collect();
+            let pieces = FacePieces::new(&c, &moved);
+            assert!(pieces.nodes.iter().all(|v| v.is_some()));
+            let plain = MasterCurve {
+                face: &c,
+                points: &moved,
+                pieces: None,
+            };
+            let fast = MasterCurve {
+                pieces: Some(&pieces),
+                ..plain
+            };
+            for e in 0..c.n_elements() {
+                let (a, b) = plain.bounds(e);
+                for _ in 0..5 {
+                    let eta = a + rnd() * (b - a);
+                    let (u, v) = (plain.eval(e, eta), fast.eval(e, eta));
+                    let scale = u.iter().flatten().fold(1.0f64, |m, x| m.max(x.abs()));
+                    for (x, y) in u.iter().flatten().zip(v.iter().flatten()) {
+                        assert!(
+                            (x - y).abs() < 1e-12 * scale,
+                            "p = {p}, element {e}: {x} vs {y}"
+                        );
+                    }
+                }
+            }
+            let (sa, sb) = (MasterSamples::new(&plain), MasterSamples::new(&fast));
+            for _ in 0..40 {
+                let x = [1.2 * rnd() - 0.1, 0.4 * rnd() - 0.2];
+                for period in [None, Some(1.0)] {
+                    let (u, v) = (
+                        project(&plain, x, None, period, &sa).unwrap(),
+                        project(&fast, x, None, period, &sb).unwrap(),
+                    );
+                    assert!((u.distance - v.distance).abs() < 1e-12, "{u:?} {v:?}");
+                    assert_eq!(u.element, v.element);
+                }
+            }
+        }
+        let arc = ThbPatch::from(&shapes::circular_arc([0.0; 3], 2.0, 0.0, 1.0));
+        let pieces = FacePieces::new(&arc, arc.control_points());
+        assert!(pieces.nodes.iter().all(|v| v.is_none()));
     }
 
     #[test]
@@ -433,13 +515,7 @@ mod tests {
         let c = curve(&c);
         let s = MasterSamples::new(&c);
         let dense: Vec<[f64; 3]> = (0..=20000).map(|k| c.point(k as f64 / 20000.0)).collect();
-        let mut seed = 3u64;
-        let mut rnd = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rnd = crate::contact::testing::rng(3);
         for _ in 0..400 {
             let x = [-1.0 + 4.0 * rnd(), -1.0 + 3.0 * rnd()];
             let guess = (rnd() < 0.5).then(&mut rnd);

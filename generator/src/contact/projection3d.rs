@@ -15,7 +15,7 @@
 //! minimized. The bounds are computed only for the elements listed in the
 //! cells of a uniform x-y grid that the best distance reaches (`BoxGrid`),
 //! so a point costs the elements near it, not all of them. The surface is
-//! evaluated on each element's polynomial piece ([`SurfacePieces`]). Each
+//! evaluated on each element's polynomial piece ([`FacePieces`]). Each
 //! element minimization is a Newton iteration on `½|x − x_m(η)|²` over the element's parameter box (projected Newton:
 //! coordinates at a bound with the gradient pointing outward are held, the
 //! others take the Newton step, with backtracking).
@@ -27,20 +27,11 @@
 //! distance to the feature ([`SurfaceProjection::fixed`]). At a boundary of
 //! a non-periodic master the projection is *clamped* there.
 
+use super::pieces::FacePieces;
+pub use super::pieces::SurfacePoint;
 use crate::basis::{RationalBasis, TensorBasis};
 use crate::geometry::ThbPatch;
 use crate::{Error, Result};
-
-/// Position and parametric derivatives of the master surface at one point.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct SurfacePoint {
-    /// Position `x_m(η)`.
-    pub x: [f64; 3],
-    /// Tangents `a_α = ∂x_m/∂η_α`.
-    pub a: [[f64; 3]; 2],
-    /// Second derivatives `a_αβ = ∂²x_m/∂η_α∂η_β`.
-    pub aa: [[[f64; 3]; 2]; 2],
-}
 
 /// The master surface in the current configuration: the reference face patch
 /// (its mesh, basis and weights) with current control points.
@@ -51,132 +42,9 @@ pub struct MasterSurface<'a> {
     /// Current control points, in the face's numbering.
     pub points: &'a [[f64; 3]],
     /// The polynomial pieces of `face` at `points`, if built
-    /// ([`SurfacePieces::new`]): the evaluator then reads them instead of the
+    /// ([`FacePieces::new`]): the evaluator then reads them instead of the
     /// THB basis.
-    pub pieces: Option<&'a SurfacePieces>,
-}
-
-/// The master surface's polynomial pieces in the current configuration: on
-/// an element whose functions all have weight 1 (to 1e-13) the surface is a polynomial
-/// of degree `p_α` in each parameter, kept as its values at the
-/// `(p₁ + 1)(p₂ + 1)` equispaced nodes of the element and evaluated by the
-/// tensor Lagrange basis (exact up to round-off: the same surface). The
-/// projections evaluate the surface many times per point (search, element
-/// minimizations); this replaces each THB evaluation (the level's B-splines,
-/// the truncation's extraction, the rational weighting) by a few dozen
-/// multiplications. Rational elements keep the THB evaluation.
-#[derive(Clone, Debug)]
-pub struct SurfacePieces {
-    degrees: [usize; 2],
-    /// Per element: the nodal values (first parameter fastest), or `None`
-    /// (rational: evaluate the basis).
-    nodes: Vec<Option<Vec<[f64; 3]>>>,
-}
-
-impl SurfacePieces {
-    /// The pieces of `face` with current control points `points`.
-    #[track_caller]
-    pub fn new(face: &ThbPatch, points: &[[f64; 3]]) -> Self {
-        use rayon::prelude::*;
-        assert_eq!(face.param_dim(), 2, "SurfacePieces: a surface");
-        let degrees = [face.degrees()[0], face.degrees()[1]];
-        let weights = face.weights();
-        let surface = MasterSurface {
-            face,
-            points,
-            pieces: None,
-        };
-        let nodes = (0..face.n_elements())
-            .into_par_iter()
-            .map_init(
-                || SurfaceEvaluator::new(surface),
-                |ev, e| {
-                    let el = &face.elements()[e];
-                    if el
-                        .functions
-                        .iter()
-                        .any(|&g| (weights[g] - 1.0).abs() > 1e-13)
-                    {
-                        return None;
-                    }
-                    let mut values = Vec::with_capacity((degrees[0] + 1) * (degrees[1] + 1));
-                    for j in 0..=degrees[1] {
-                        for i in 0..=degrees[0] {
-                            let t = [i as f64 / degrees[0] as f64, j as f64 / degrees[1] as f64];
-                            let eta =
-                                [0, 1].map(|d| el.lower[d] + t[d] * (el.upper[d] - el.lower[d]));
-                            values.push(ev.at_basis(e, eta).x);
-                        }
-                    }
-                    Some(values)
-                },
-            )
-            .collect();
-        SurfacePieces { degrees, nodes }
-    }
-
-    /// Position and derivatives on element `e` at `eta`, if it is polynomial.
-    fn at(&self, face: &ThbPatch, e: usize, eta: [f64; 2]) -> Option<SurfacePoint> {
-        let values = self.nodes[e].as_ref()?;
-        let el = &face.elements()[e];
-        let mut l = [[[0.0; 3]; 4]; 2];
-        for d in 0..2 {
-            let h = el.upper[d] - el.lower[d];
-            let t = (eta[d] - el.lower[d]) / h;
-            l[d] = lagrange(self.degrees[d], t);
-            for b in l[d].iter_mut() {
-                b[1] /= h;
-                b[2] /= h * h;
-            }
-        }
-        let mut s = SurfacePoint::default();
-        let n0 = self.degrees[0] + 1;
-        for (k, x) in values.iter().enumerate() {
-            let (u, v) = (l[0][k % n0], l[1][k / n0]);
-            for c in 0..3 {
-                s.x[c] += u[0] * v[0] * x[c];
-                s.a[0][c] += u[1] * v[0] * x[c];
-                s.a[1][c] += u[0] * v[1] * x[c];
-                s.aa[0][0][c] += u[2] * v[0] * x[c];
-                s.aa[0][1][c] += u[1] * v[1] * x[c];
-                s.aa[1][1][c] += u[0] * v[2] * x[c];
-            }
-        }
-        s.aa[1][0] = s.aa[0][1];
-        Some(s)
-    }
-}
-
-/// The Lagrange polynomials of degree `p ≤ 3` on the nodes `i/p` of [0, 1] at
-/// `t`: `[ℓ_i, ℓ_i', ℓ_i'']` for `i = 0..=p` (the rest zero).
-fn lagrange(p: usize, t: f64) -> [[f64; 3]; 4] {
-    assert!((1..=3).contains(&p), "lagrange: degree 1 to 3");
-    let node = |i: usize| i as f64 / p as f64;
-    // Π (t − t_j) over j ∉ {i} ∪ skip (on the stack: a hot path).
-    let product = |i: usize, skip: [usize; 2]| -> f64 {
-        (0..=p)
-            .filter(|&j| j != i && !skip.contains(&j))
-            .map(|j| t - node(j))
-            .product()
-    };
-    let mut out = [[0.0; 3]; 4];
-    for (i, o) in out.iter_mut().enumerate().take(p + 1) {
-        let denominator: f64 = (0..=p)
-            .filter(|&j| j != i)
-            .map(|j| node(i) - node(j))
-            .product();
-        o[0] = product(i, [i, i]);
-        for k in (0..=p).filter(|&k| k != i) {
-            o[1] += product(i, [k, k]);
-            for m in (0..=p).filter(|&m| m != i && m != k) {
-                o[2] += product(i, [k, m]);
-            }
-        }
-        for v in o.iter_mut() {
-            *v /= denominator;
-        }
-    }
-    out
+    pub pieces: Option<&'a FacePieces>,
 }
 
 /// Evaluates a [`MasterSurface`] with reused buffers.
@@ -208,7 +76,7 @@ impl<'a> SurfaceEvaluator<'a> {
         if let Some(s) = self
             .surface
             .pieces
-            .and_then(|p| p.at(self.surface.face, e, eta))
+            .and_then(|p| p.at(self.surface.face, e, &eta))
         {
             return s;
         }
@@ -868,7 +736,7 @@ mod tests {
                 .iter()
                 .map(|x| [x[0] + 0.01 * r(), x[1], x[2] + 0.02 * r()])
                 .collect();
-            let pieces = SurfacePieces::new(&patch, &moved);
+            let pieces = FacePieces::new(&patch, &moved);
             assert!(pieces.nodes.iter().all(|v| v.is_some()));
             let plain = MasterSurface {
                 face: &patch,
@@ -918,7 +786,7 @@ mod tests {
             }
         }
         let sphere = sphere_patch([0.0; 3], 1.0, [0.1, 0.7], [0.0, 1.2]);
-        let pieces = SurfacePieces::new(&sphere, sphere.control_points());
+        let pieces = FacePieces::new(&sphere, sphere.control_points());
         assert!(pieces.nodes.iter().all(|v| v.is_none()));
     }
 

@@ -1,0 +1,167 @@
+//! The master face's polynomial pieces in the current configuration, for the
+//! closest-point projections of both dimensions ([`crate::contact::projection`]
+//! on curves, [`crate::contact::projection3d`] on surfaces).
+//!
+//! On an element whose functions all have weight 1 (to 1e-13) the face is a
+//! polynomial of degree `p_α` in each of its `d − 1` parameters, kept as its
+//! values at the `Π (p_α + 1)` equispaced nodes of the element and evaluated
+//! by the tensor Lagrange basis (exact up to round-off: the same face). The
+//! projections evaluate the face many times per point (the search, the
+//! element minimizations); this replaces each THB evaluation (the level's
+//! B-splines, the truncation's extraction, the rational weighting) by a few
+//! dozen multiplications. Rational elements keep the THB evaluation.
+
+use rayon::prelude::*;
+
+use crate::basis::{RationalBasis, TensorBasis};
+use crate::geometry::ThbPatch;
+
+/// Position and parametric derivatives of the master face at one point (on
+/// a curve, the first parameter's only; the rest zero).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SurfacePoint {
+    /// Position `x_m(η)`.
+    pub x: [f64; 3],
+    /// Tangents `a_α = ∂x_m/∂η_α`.
+    pub a: [[f64; 3]; 2],
+    /// Second derivatives `a_αβ = ∂²x_m/∂η_α∂η_β`.
+    pub aa: [[[f64; 3]; 2]; 2],
+}
+
+/// The polynomial pieces of a master face (a curve or a surface) with its
+/// current control points (module docs).
+#[derive(Clone, Debug)]
+pub struct FacePieces {
+    /// Degrees per parameter; 0 in the second for a curve.
+    degrees: [usize; 2],
+    /// Per element: the nodal values (first parameter fastest), or `None`
+    /// (rational: evaluate the basis).
+    pub(crate) nodes: Vec<Option<Vec<[f64; 3]>>>,
+}
+
+impl FacePieces {
+    /// The pieces of `face` (one or two parameters) with current control
+    /// points `points`.
+    #[track_caller]
+    pub fn new(face: &ThbPatch, points: &[[f64; 3]]) -> Self {
+        let dims = face.param_dim();
+        assert!(dims == 1 || dims == 2, "FacePieces: a curve or a surface");
+        let degrees = [
+            face.degrees()[0],
+            if dims == 2 { face.degrees()[1] } else { 0 },
+        ];
+        let weights = face.weights();
+        let node = |i: usize, p: usize| if p == 0 { 0.0 } else { i as f64 / p as f64 };
+        let nodes: Vec<Option<Vec<[f64; 3]>>> = (0..face.n_elements())
+            .into_par_iter()
+            .map_init(
+                || (TensorBasis::default(), RationalBasis::default()),
+                |(scratch, basis), e| {
+                    let el = &face.elements()[e];
+                    if el
+                        .functions
+                        .iter()
+                        .any(|&g| (weights[g] - 1.0).abs() > 1e-13)
+                    {
+                        return None;
+                    }
+                    let mut values = Vec::with_capacity((degrees[0] + 1) * (degrees[1] + 1));
+                    for j in 0..=degrees[1] {
+                        for i in 0..=degrees[0] {
+                            let t = [node(i, degrees[0]), node(j, degrees[1])];
+                            let eta: [f64; 2] = std::array::from_fn(|d| {
+                                if d < dims {
+                                    el.lower[d] + t[d] * (el.upper[d] - el.lower[d])
+                                } else {
+                                    0.0
+                                }
+                            });
+                            face.element_basis_into(e, &eta[..dims], 0, scratch, basis);
+                            let mut x = [0.0; 3];
+                            for (k, &g) in basis.indices.iter().enumerate() {
+                                for c in 0..3 {
+                                    x[c] += basis.values[k] * points[g][c];
+                                }
+                            }
+                            values.push(x);
+                        }
+                    }
+                    Some(values)
+                },
+            )
+            .collect();
+        FacePieces { degrees, nodes }
+    }
+
+    /// Position and derivatives on element `e` of `face` at `eta` (one
+    /// entry per parameter), if the element is polynomial.
+    pub fn at(&self, face: &ThbPatch, e: usize, eta: &[f64]) -> Option<SurfacePoint> {
+        let values = self.nodes[e].as_ref()?;
+        let el = &face.elements()[e];
+        let mut l = [[[0.0; 3]; 4]; 2];
+        for (d, &x) in eta.iter().enumerate() {
+            let h = el.upper[d] - el.lower[d];
+            let t = (x - el.lower[d]) / h;
+            l[d] = lagrange(self.degrees[d], t);
+            for b in l[d].iter_mut() {
+                b[1] /= h;
+                b[2] /= h * h;
+            }
+        }
+        if eta.len() == 1 {
+            l[1] = lagrange(0, 0.0);
+        }
+        let mut s = SurfacePoint::default();
+        let n0 = self.degrees[0] + 1;
+        for (k, x) in values.iter().enumerate() {
+            let (u, v) = (l[0][k % n0], l[1][k / n0]);
+            for c in 0..3 {
+                s.x[c] += u[0] * v[0] * x[c];
+                s.a[0][c] += u[1] * v[0] * x[c];
+                s.a[1][c] += u[0] * v[1] * x[c];
+                s.aa[0][0][c] += u[2] * v[0] * x[c];
+                s.aa[0][1][c] += u[1] * v[1] * x[c];
+                s.aa[1][1][c] += u[0] * v[2] * x[c];
+            }
+        }
+        s.aa[1][0] = s.aa[0][1];
+        Some(s)
+    }
+}
+
+/// The Lagrange polynomials of degree `p ≤ 3` on the nodes `i/p` of [0, 1] at
+/// `t`: `[ℓ_i, ℓ_i', ℓ_i'']` for `i = 0..=p` (the rest zero); `p = 0`: the
+/// constant 1.
+fn lagrange(p: usize, t: f64) -> [[f64; 3]; 4] {
+    assert!(p <= 3, "lagrange: degree 0 to 3");
+    let mut out = [[0.0; 3]; 4];
+    if p == 0 {
+        out[0][0] = 1.0;
+        return out;
+    }
+    let node = |i: usize| i as f64 / p as f64;
+    // Π (t − t_j) over j ∉ {i} ∪ skip (on the stack: a hot path).
+    let product = |i: usize, skip: [usize; 2]| -> f64 {
+        (0..=p)
+            .filter(|&j| j != i && !skip.contains(&j))
+            .map(|j| t - node(j))
+            .product()
+    };
+    for (i, o) in out.iter_mut().enumerate().take(p + 1) {
+        let denominator: f64 = (0..=p)
+            .filter(|&j| j != i)
+            .map(|j| node(i) - node(j))
+            .product();
+        o[0] = product(i, [i, i]);
+        for k in (0..=p).filter(|&k| k != i) {
+            o[1] += product(i, [k, k]);
+            for m in (0..=p).filter(|&m| m != i && m != k) {
+                o[2] += product(i, [k, m]);
+            }
+        }
+        for v in o.iter_mut() {
+            *v /= denominator;
+        }
+    }
+    out
+}
