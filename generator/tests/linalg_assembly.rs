@@ -158,6 +158,37 @@ fn tied_dofs_add_and_prescribed_dofs_are_dropped() {
     assert_eq!(rhs, vec![1.0 + 2.0, 4.0 + 101.0, 102.0]);
 }
 
+/// An assembly describes exactly the unknowns and local-to-global maps it
+/// was built from (the reuse test of the model's kept assemblies): any
+/// changed equation, prescribed dof, element, element length or count of
+/// unknowns makes it another one.
+#[test]
+fn an_assembly_describes_only_its_own_maps() {
+    let element_eqs = vec![
+        vec![Some(0), Some(0), None, Some(1)],
+        vec![Some(1), Some(2)],
+    ];
+    let assembly = Assembly::new(3, element_eqs.clone());
+    assert!(assembly.describes(3, &element_eqs));
+    assert!(!assembly.describes(4, &element_eqs));
+    let mut other = element_eqs.clone();
+    other[1][1] = Some(0);
+    assert!(!assembly.describes(3, &other));
+    let mut other = element_eqs.clone();
+    other[0][2] = Some(2);
+    assert!(!assembly.describes(3, &other));
+    let mut other = element_eqs.clone();
+    other[0][0] = None;
+    assert!(!assembly.describes(3, &other));
+    let mut other = element_eqs.clone();
+    other[1].push(Some(0));
+    assert!(!assembly.describes(3, &other));
+    assert!(!assembly.describes(3, &element_eqs[..1]));
+    let mut other = element_eqs.clone();
+    other.push(vec![Some(2)]);
+    assert!(!assembly.describes(3, &other));
+}
+
 /// Random connectivities with ties and prescribed dofs match the dense reference assembly,
 /// and the pattern is sorted, full and contains the diagonal.
 #[test]

@@ -97,6 +97,22 @@ impl Assembly {
         }
     }
 
+    /// Whether this assembly is the one [`Assembly::new`] builds from
+    /// `n_eq` and `element_eqs` (same unknowns, elements and local-to-global
+    /// map: the same pattern and scatter map).
+    pub fn describes(&self, n_eq: usize, element_eqs: &[Vec<Option<usize>>]) -> bool {
+        self.n_eq == n_eq
+            && self.dof_ptr.len() == element_eqs.len() + 1
+            && element_eqs.iter().enumerate().all(|(e, eqs)| {
+                let mine = &self.dof_eq[self.dof_ptr[e]..self.dof_ptr[e + 1]];
+                mine.len() == eqs.len()
+                    && mine
+                        .iter()
+                        .zip(eqs)
+                        .all(|(&m, q)| q.map_or(m == DROPPED, |i| m == i))
+            })
+    }
+
     /// Number of unknowns (rows and columns of the global matrix).
     pub fn n_eq(&self) -> usize {
         self.n_eq

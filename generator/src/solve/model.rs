@@ -452,6 +452,8 @@ impl ModelBuilder {
             pattern_version: 0,
             dofs: DofMapBuilder::new(0, 1).build()?,
             assembly: Assembly::new(0, Vec::new()),
+            assembly_coupling: coupling,
+            kept_assembly: None,
             elements: Vec::new(),
             eq_class: Vec::new(),
             eq_coords: Vec::new(),
@@ -500,6 +502,11 @@ pub struct Model {
     coupling: Coupling,
     dofs: DofMap,
     assembly: Assembly,
+    /// The phase `assembly` was built for.
+    assembly_coupling: Coupling,
+    /// The last assembly of another phase, reused when the phases alternate
+    /// (the self-consistent iterations) on an unchanged pattern.
+    kept_assembly: Option<(Coupling, Assembly)>,
     elements: Vec<(usize, usize)>,
     eq_class: Vec<usize>,
     eq_coords: Vec<[f64; 3]>,
@@ -756,7 +763,25 @@ impl Model {
             }
         }
         let n_eq = self.eq_class.len();
-        self.assembly = Assembly::new(n_eq, element_eqs);
+        // The current assembly or the kept one of another phase, where
+        // either is this pattern; one of another phase is kept.
+        let previous = std::mem::replace(&mut self.assembly, Assembly::new(0, Vec::new()));
+        let mut candidates = [
+            Some((self.assembly_coupling, previous)),
+            self.kept_assembly.take(),
+        ];
+        let found = candidates
+            .iter_mut()
+            .find_map(|c| c.take_if(|(_, a)| a.describes(n_eq, &element_eqs)));
+        self.assembly = match found {
+            Some((_, a)) => a,
+            None => Assembly::new(n_eq, element_eqs),
+        };
+        self.assembly_coupling = self.coupling;
+        self.kept_assembly = candidates
+            .into_iter()
+            .flatten()
+            .find(|(c, _)| *c != self.coupling);
         self.pattern_version += 1;
     }
 
