@@ -3,9 +3,11 @@
 //! on curves, [`crate::contact::projection3d`] on surfaces).
 //!
 //! On an element whose functions all have weight 1 (to 1e-13) the face is a
-//! polynomial of degree `p_α` in each of its `d − 1` parameters, kept as its
-//! values at the `Π (p_α + 1)` equispaced nodes of the element and evaluated
-//! by the tensor Lagrange basis (exact up to round-off: the same face). The
+//! polynomial of degree `p_α` in each of its `d − 1` parameters: its values
+//! at the `Π (p_α + 1)` equispaced nodes of the element, converted once to
+//! the coefficients of the tensor monomials of the element's centred local
+//! coordinates (the inverse Vandermonde matrix of the nodes), and evaluated
+//! by them (exact up to round-off: the same face). The
 //! projections evaluate the face many times per point (the search, the
 //! element minimizations); this replaces each THB evaluation (the level's
 //! B-splines, the truncation's extraction, the rational weighting) by a few
@@ -34,7 +36,8 @@ pub struct SurfacePoint {
 pub struct FacePieces {
     /// Degrees per parameter; 0 in the second for a curve.
     degrees: [usize; 2],
-    /// Per element: the nodal values (first parameter fastest), or `None`
+    /// Per element: the coefficients of the monomials `s₁^i s₂^j` of the
+    /// centred local coordinates `s_α ∈ [−1, 1]` (`i` fastest), or `None`
     /// (rational: evaluate the basis).
     pub(crate) nodes: Vec<Option<Vec<[f64; 3]>>>,
 }
@@ -52,6 +55,9 @@ impl FacePieces {
         ];
         let weights = face.weights();
         let node = |i: usize, p: usize| if p == 0 { 0.0 } else { i as f64 / p as f64 };
+        // The monomials of the centred coordinate `s = 2t − 1 ∈ [−1, 1]`.
+        let inverse = degrees.map(|p| inverse_vandermonde(p, |i| 2.0 * node(i, p) - 1.0));
+        let n0 = degrees[0] + 1;
         let nodes: Vec<Option<Vec<[f64; 3]>>> = (0..face.n_elements())
             .into_par_iter()
             .map_init(
@@ -86,7 +92,18 @@ impl FacePieces {
                             values.push(x);
                         }
                     }
-                    Some(values)
+                    // Nodal values to monomial coefficients, direction by direction.
+                    let mut coefficients = vec![[0.0; 3]; values.len()];
+                    for (k, c) in coefficients.iter_mut().enumerate() {
+                        let (i, j) = (k % n0, k / n0);
+                        for (m, x) in values.iter().enumerate() {
+                            let f = inverse[0][i][m % n0] * inverse[1][j][m / n0];
+                            for (cc, xx) in c.iter_mut().zip(x) {
+                                *cc += f * xx;
+                            }
+                        }
+                    }
+                    Some(coefficients)
                 },
             )
             .collect();
@@ -100,16 +117,16 @@ impl FacePieces {
         let el = &face.elements()[e];
         let mut l = [[[0.0; 3]; 4]; 2];
         for (d, &x) in eta.iter().enumerate() {
-            let h = el.upper[d] - el.lower[d];
-            let t = (x - el.lower[d]) / h;
-            l[d] = lagrange(self.degrees[d], t);
+            let h = 0.5 * (el.upper[d] - el.lower[d]);
+            let s = (x - el.lower[d]) / h - 1.0;
+            l[d] = monomials(self.degrees[d], s);
             for b in l[d].iter_mut() {
                 b[1] /= h;
                 b[2] /= h * h;
             }
         }
         if eta.len() == 1 {
-            l[1] = lagrange(0, 0.0);
+            l[1] = monomials(0, 0.0);
         }
         let mut s = SurfacePoint::default();
         let n0 = self.degrees[0] + 1;
@@ -129,39 +146,60 @@ impl FacePieces {
     }
 }
 
-/// The Lagrange polynomials of degree `p ≤ 3` on the nodes `i/p` of [0, 1] at
-/// `t`: `[ℓ_i, ℓ_i', ℓ_i'']` for `i = 0..=p` (the rest zero); `p = 0`: the
-/// constant 1.
-fn lagrange(p: usize, t: f64) -> [[f64; 3]; 4] {
-    assert!(p <= 3, "lagrange: degree 0 to 3");
+/// The monomials `t^k` of degree `p ≤ 3` at `t`: `[t^k, (t^k)', (t^k)'']`
+/// for `k = 0..=p` (the rest zero); `p = 0`: the constant 1.
+fn monomials(p: usize, t: f64) -> [[f64; 3]; 4] {
     let mut out = [[0.0; 3]; 4];
-    if p == 0 {
-        out[0][0] = 1.0;
-        return out;
+    let mut power = [1.0; 4];
+    for k in 1..4 {
+        power[k] = power[k - 1] * t;
     }
-    let node = |i: usize| i as f64 / p as f64;
-    // Π (t − t_j) over j ∉ {i} ∪ skip (on the stack: a hot path).
-    let product = |i: usize, skip: [usize; 2]| -> f64 {
-        (0..=p)
-            .filter(|&j| j != i && !skip.contains(&j))
-            .map(|j| t - node(j))
-            .product()
-    };
-    for (i, o) in out.iter_mut().enumerate().take(p + 1) {
-        let denominator: f64 = (0..=p)
-            .filter(|&j| j != i)
-            .map(|j| node(i) - node(j))
-            .product();
-        o[0] = product(i, [i, i]);
-        for k in (0..=p).filter(|&k| k != i) {
-            o[1] += product(i, [k, k]);
-            for m in (0..=p).filter(|&m| m != i && m != k) {
-                o[2] += product(i, [k, m]);
-            }
+    for (k, o) in out.iter_mut().enumerate().take(p + 1) {
+        let kf = k as f64;
+        o[0] = power[k];
+        if k >= 1 {
+            o[1] = kf * power[k - 1];
         }
-        for v in o.iter_mut() {
-            *v /= denominator;
+        if k >= 2 {
+            o[2] = kf * (kf - 1.0) * power[k - 2];
         }
     }
     out
+}
+
+/// The inverse of the Vandermonde matrix `V_ik = t_i^k` of the nodes
+/// `t_i = node(i)`, `i, k = 0..=p ≤ 3` (Gauss–Jordan; the rest zero):
+/// monomial coefficients `c = V⁻¹ x` of the values `x` at the nodes.
+fn inverse_vandermonde(p: usize, node: impl Fn(usize) -> f64) -> [[f64; 4]; 4] {
+    assert!(p <= 3, "FacePieces: degree 0 to 3");
+    let n = p + 1;
+    let mut a = [[0.0; 8]; 4];
+    for (i, row) in a.iter_mut().enumerate().take(n) {
+        for k in 0..n {
+            row[k] = node(i).powi(k as i32);
+        }
+        row[n + i] = 1.0;
+    }
+    for c in 0..n {
+        let pivot = (c..n)
+            .max_by(|&x, &y| a[x][c].abs().total_cmp(&a[y][c].abs()))
+            .unwrap_or(c);
+        a.swap(c, pivot);
+        let d = a[c][c];
+        for v in a[c].iter_mut() {
+            *v /= d;
+        }
+        for r in (0..n).filter(|&r| r != c) {
+            let f = a[r][c];
+            let pivot_row = a[c];
+            for (v, w) in a[r].iter_mut().zip(pivot_row) {
+                *v -= f * w;
+            }
+        }
+    }
+    let mut inverse = [[0.0; 4]; 4];
+    for (row, source) in inverse.iter_mut().zip(&a).take(n) {
+        row[..n].copy_from_slice(&source[n..2 * n]);
+    }
+    inverse
 }
