@@ -195,6 +195,35 @@ pub struct ContactInterface {
     break_terms: Vec<BreakTerm>,
 }
 
+/// The unknowns of a contact element ([`ContactInterface::element_dofs`]:
+/// `(node, field)` pairs, node-major and sorted, the same fields for every
+/// node) by node: a point's unknowns map to their positions by one search
+/// per node ([`ContactInterface::point_map`]).
+struct DofIndex {
+    /// The element's nodes, sorted.
+    nodes: Vec<usize>,
+    /// Position of each field among a node's unknowns.
+    slot: [Option<usize>; 4],
+    /// Unknowns per node.
+    per_node: usize,
+}
+
+impl DofIndex {
+    fn new(dofs: &[(usize, usize)], dim: usize) -> Self {
+        let per_node = dofs.iter().take_while(|d| d.0 == dofs[0].0).count();
+        let mut slot = [None; 4];
+        for (s, d) in dofs.iter().take(per_node).enumerate() {
+            slot[d.1] = Some(s);
+        }
+        debug_assert!(slot.iter().skip(dim + 1).all(Option::is_none));
+        DofIndex {
+            nodes: dofs.iter().step_by(per_node.max(1)).map(|d| d.0).collect(),
+            slot,
+            per_node,
+        }
+    }
+}
+
 /// Per slave node, the factors of its points' gap and jump Hessians in the
 /// tangent ([`ContactInterface::hessian_weights`]).
 #[derive(Clone, Debug)]
@@ -958,6 +987,20 @@ impl ContactInterface {
     }
 
     /// Local unknowns `(node, field)` of integration point `q`, in the order of its kinematics.
+    /// The positions in a contact element's unknowns (`index`) of point
+    /// `q`'s [`ContactInterface::point_dofs`], in their order (`None`:
+    /// not an unknown of the element): one search per node.
+    fn point_map(&self, q: usize, index: &DofIndex, map: &mut Vec<Option<usize>>) {
+        let nf = self.dim + 1;
+        map.clear();
+        let slave = self.points[q].conn.iter().map(|&c| self.slave_nodes[c]);
+        let master = self.state[q].master.iter().map(|&j| self.master_nodes[j]);
+        for n in slave.chain(master) {
+            let at = index.nodes.binary_search(&n).ok();
+            map.extend((0..nf).map(|f| at.zip(index.slot[f]).map(|(a, s)| a * index.per_node + s)));
+        }
+    }
+
     fn point_dofs(&self, q: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
         let nf = self.dim + 1;
         let slave = self.points[q].conn.iter().map(|&c| self.slave_nodes[c]);
@@ -1992,10 +2035,16 @@ impl ContactInterface {
         let (mut gs, mut gts) = (0.0, 0.0);
         let mut map: Vec<Option<usize>> = Vec::new();
         let (mut hp, mut hpt) = (Vec::new(), Vec::new());
+        let index = DofIndex::new(&dofs, self.dim);
         for &q in points {
             let w = self.weight_of(q, i);
-            map.clear();
-            map.extend(self.point_dofs(q).map(|d| dofs.binary_search(&d).ok()));
+            self.point_map(q, &index, &mut map);
+            debug_assert!(
+                self.point_dofs(q)
+                    .map(|d| dofs.binary_search(&d).ok())
+                    .eq(map.iter().copied()),
+                "point map of node {i}"
+            );
             let st = &self.state[q];
             if let (Some(hw), true) = (hessians, k.is_some()) {
                 let (carrier, cg, cj) = self.point_hessian_factors(q, hw);
@@ -2104,13 +2153,14 @@ impl ContactInterface {
                 if self.owner[q] != i {
                     continue;
                 }
-                let pd: Vec<(usize, usize)> = self.point_dofs(q).collect();
-                let map: Vec<Option<usize>> = pd
+                let mut cols = Vec::new();
+                self.point_map(q, &index, &mut cols);
+                // The temperature unknowns only, in the rows.
+                let map: Vec<Option<usize>> = cols
                     .iter()
-                    .map(|d| dofs.binary_search(d).ok().filter(|_| d.1 == self.dim))
+                    .enumerate()
+                    .map(|(a, c)| c.filter(|_| a % (self.dim + 1) == self.dim))
                     .collect();
-                let cols: Vec<Option<usize>> =
-                    pd.iter().map(|d| dofs.binary_search(d).ok()).collect();
                 self.continuum_point(q, &map, &cols, &mut add_k, r);
             }
             return;
