@@ -39,7 +39,7 @@ pub struct FacePieces {
     /// Per element: the coefficients of the monomials `s₁^i s₂^j` of the
     /// centred local coordinates `s_α ∈ [−1, 1]` (`i` fastest), or `None`
     /// (rational: evaluate the basis).
-    pub(crate) nodes: Vec<Option<Vec<[f64; 3]>>>,
+    pub(crate) coefficients: Vec<Option<Vec<[f64; 3]>>>,
 }
 
 impl FacePieces {
@@ -58,7 +58,7 @@ impl FacePieces {
         // The monomials of the centred coordinate `s = 2t − 1 ∈ [−1, 1]`.
         let inverse = degrees.map(|p| inverse_vandermonde(p, |i| 2.0 * node(i, p) - 1.0));
         let n0 = degrees[0] + 1;
-        let nodes: Vec<Option<Vec<[f64; 3]>>> = (0..face.n_elements())
+        let coefficients: Vec<Option<Vec<[f64; 3]>>> = (0..face.n_elements())
             .into_par_iter()
             .map_init(
                 || (TensorBasis::default(), RationalBasis::default()),
@@ -107,14 +107,18 @@ impl FacePieces {
                 },
             )
             .collect();
-        FacePieces { degrees, nodes }
+        FacePieces {
+            degrees,
+            coefficients,
+        }
     }
 
     /// Position and derivatives on element `e` of `face` at `eta` (one
     /// entry per parameter), if the element is polynomial.
     pub fn at(&self, face: &ThbPatch, e: usize, eta: &[f64]) -> Option<SurfacePoint> {
-        let values = self.nodes[e].as_ref()?;
+        let coefficients = self.coefficients[e].as_ref()?;
         let el = &face.elements()[e];
+        // The monomials and their derivatives in each parameter.
         let mut l = [[[0.0; 3]; 4]; 2];
         for (d, &x) in eta.iter().enumerate() {
             let h = 0.5 * (el.upper[d] - el.lower[d]);
@@ -130,7 +134,7 @@ impl FacePieces {
         }
         let mut s = SurfacePoint::default();
         let n0 = self.degrees[0] + 1;
-        for (k, x) in values.iter().enumerate() {
+        for (k, x) in coefficients.iter().enumerate() {
             let (u, v) = (l[0][k % n0], l[1][k / n0]);
             for c in 0..3 {
                 s.x[c] += u[0] * v[0] * x[c];

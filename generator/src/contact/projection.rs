@@ -405,7 +405,7 @@ mod tests {
                 .map(|x| [x[0] + 0.01 * rnd(), x[1] + 0.02 * rnd(), 0.0])
                 .collect();
             let pieces = FacePieces::new(&c, &moved);
-            assert!(pieces.nodes.iter().all(|v| v.is_some()));
+            assert!(pieces.coefficients.iter().all(|v| v.is_some()));
             let plain = MasterCurve {
                 face: &c,
                 points: &moved,
@@ -444,7 +444,7 @@ mod tests {
         }
         let arc = ThbPatch::from(&shapes::circular_arc([0.0; 3], 2.0, 0.0, 1.0));
         let pieces = FacePieces::new(&arc, arc.control_points());
-        assert!(pieces.nodes.iter().all(|v| v.is_none()));
+        assert!(pieces.coefficients.iter().all(|v| v.is_none()));
     }
 
     #[test]

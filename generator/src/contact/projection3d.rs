@@ -737,7 +737,7 @@ mod tests {
                 .map(|x| [x[0] + 0.01 * r(), x[1], x[2] + 0.02 * r()])
                 .collect();
             let pieces = FacePieces::new(&patch, &moved);
-            assert!(pieces.nodes.iter().all(|v| v.is_some()));
+            assert!(pieces.coefficients.iter().all(|v| v.is_some()));
             let plain = MasterSurface {
                 face: &patch,
                 points: &moved,
@@ -787,7 +787,7 @@ mod tests {
         }
         let sphere = sphere_patch([0.0; 3], 1.0, [0.1, 0.7], [0.0, 1.2]);
         let pieces = FacePieces::new(&sphere, sphere.control_points());
-        assert!(pieces.nodes.iter().all(|v| v.is_none()));
+        assert!(pieces.coefficients.iter().all(|v| v.is_none()));
     }
 
     #[test]
