@@ -8,6 +8,7 @@ use std::path::Path;
 use tcgen::homogenize::adapt::{Marks, refine_bodies, transfer_state};
 use tcgen::homogenize::path::{PathSolver, PointResult, two_level_estimate};
 use tcgen::sample::Case;
+use tcgen::sample::case::Method;
 use tcgen::solve::NonlinearProblem;
 
 #[path = "common/westergaard_case.rs"]
@@ -244,4 +245,43 @@ fn westergaard_adaptive_meets_the_closed_forms() {
         );
         assert!(worst_jump <= tol_jump, "target {target}: jump {worst_jump}");
     }
+}
+
+/// The 3D thermal phase on the contact zone (`thermal_zone = true`) solves
+/// on the first adaptive level of the egg box of `tables/egg_box_on_flat.toml`
+/// at 100 kPa (6 × 6 × 2 / 5 × 5 × 2, 4 × 4 points per slave face element,
+/// plain two-phase): the zone's fitted
+/// edges reach past the supports of the nodes in contact, and before
+/// `ZONE_MIN_SHARE` the nodes there carried multipliers on test functions
+/// of 0.1–1e-7 of their areas, 22 near-zero pivots, and the level failed
+/// (load stepping stalled); now every node with a multiplier covers at
+/// least that share and the level converges (2.68 K, contact 0.39).
+#[test]
+fn the_3d_contact_zone_solves_on_a_refined_egg_box() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tables/egg_box_on_flat.toml");
+    let mut c = Case::read(&path).unwrap();
+    assert_eq!(c.sample.dimension, 3);
+    assert_eq!(c.contact.interface_points, 4);
+    let d = &mut c.discretization;
+    d.elements_upper = [6, 6, 2].into();
+    d.elements_lower = [5, 5, 2].into();
+    d.target_error = Some(1.0e-4);
+    d.max_levels = 1;
+    c.contact.thermal_zone = Some(true);
+    c.homogenization.method = Method::TwoPhase;
+    c.load.pressures = vec![1.0e5];
+    let r = &solve(&c)[0];
+    println!(
+        "zone, level {:?}: jump {:.5} K, contact {:.4}, stop {:?}",
+        r.levels, r.jump, r.interface.contact_fraction, r.refinement_stop
+    );
+    assert!(r.converged, "{:?}", r.status);
+    assert_eq!(r.levels, [1, 1], "{:?}", r.refinement_stop);
+    assert_eq!(r.refinement_stop.as_deref(), Some("max_levels"));
+    assert!(r.jump_error.is_some());
+    assert!(
+        r.jump > 2.0 && r.jump < 4.0,
+        "jump {} K (level 1 of the catalogue's sequence: 2.75 K)",
+        r.jump
+    );
 }

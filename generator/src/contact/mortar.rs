@@ -224,6 +224,12 @@ impl DofIndex {
     }
 }
 
+/// The smallest share of a slave node's lumped area that the contact zone's
+/// test function of the node may cover and carry a thermal multiplier
+/// ([`ContactInterface::freeze`] on the zone): below it the multiplier's
+/// row is a near-zero pivot of the thermal system.
+pub const ZONE_MIN_SHARE: f64 = 0.05;
+
 /// Per slave node, the factors of its points' gap and jump Hessians in the
 /// tangent ([`ContactInterface::hessian_weights`]).
 #[derive(Clone, Debug)]
@@ -1506,31 +1512,59 @@ impl ContactInterface {
         p: Vec<f64>,
         a: Vec<bool>,
     ) {
-        // Multipliers on the nodes of positive indicator only. A node that the zone reaches but whose indicator is not
-        // positive hands its test function, point by point, to the
-        // in-contact node of largest basis value there. The ψ^I stay a
-        // partition of unity on the zone, and no edge element gets more
-        // constraints than its jump can meet (which would lock it to zero
-        // over the whole element).
-        let test: Vec<Vec<(usize, f64)>> = points
-            .iter()
-            .map(|sp| {
-                let keep = |a: usize| p[sp.conn[a]] > 0.0;
-                let heir = (0..sp.conn.len())
-                    .filter(|&a| keep(a))
-                    .max_by(|&a, &b| sp.basis[a].total_cmp(&sp.basis[b]));
-                let mut pairs: Vec<(usize, f64)> = Vec::new();
-                for (a, &i) in sp.conn.iter().enumerate() {
-                    let to = match heir {
-                        Some(h) if !keep(a) => sp.conn[h],
-                        _ => i,
+        // Multipliers on the nodes of positive indicator only. A node that
+        // the zone reaches but whose indicator is not positive hands its
+        // test function, point by point, to the in-contact node of largest
+        // basis value there. The ψ^I stay a partition of unity on the zone,
+        // and no edge element gets more constraints than its jump can meet
+        // (which would lock it to zero over the whole element). Where the
+        // fitted edges take the zone beyond the supports of the nodes in
+        // contact, the nodes there keep their own test functions; but a
+        // multiplier whose test function covers less than
+        // [`ZONE_MIN_SHARE`] of its node's area would be a near-zero pivot
+        // of the thermal system (seen: 22 of them, and no convergence, on
+        // the egg box's first adaptive level): such a node hands its part to
+        // the point's heir too, and where no node of the point carries a
+        // multiplier the point's sliver of zone is left out.
+        let root = |i: usize| self.copy_of[i];
+        // The heir of a point is its node of highest rank (then largest
+        // basis value); nodes of the heir's rank keep their weights, the
+        // others hand them to the heir; rank 0 carries no multiplier.
+        let assign = |rank: &dyn Fn(usize) -> u8| -> Vec<Vec<(usize, f64)>> {
+            points
+                .iter()
+                .map(|sp| {
+                    let r = |a: usize| rank(root(sp.conn[a]));
+                    let heir = (0..sp.conn.len())
+                        .max_by(|&a, &b| r(a).cmp(&r(b)).then(sp.basis[a].total_cmp(&sp.basis[b])));
+                    let mut pairs: Vec<(usize, f64)> = Vec::new();
+                    let Some(h) = heir.filter(|&h| r(h) > 0) else {
+                        return pairs;
                     };
-                    let w = sp.weight * sp.basis[a];
-                    add_weight(&mut pairs, to, w);
-                }
-                pairs
+                    for (a, &i) in sp.conn.iter().enumerate() {
+                        let to = if r(a) == r(h) { i } else { sp.conn[h] };
+                        add_weight(&mut pairs, to, sp.weight * sp.basis[a]);
+                    }
+                    pairs
+                })
+                .collect()
+        };
+        let in_contact = |i: usize| p[i] > 0.0;
+        let first = assign(&|i| if in_contact(i) { 2 } else { 1 });
+        let mut share = vec![0.0; self.n_slave()];
+        for &(i, w) in first.iter().flatten() {
+            share[root(i)] += w;
+        }
+        let carries = |i: usize| share[i] >= ZONE_MIN_SHARE * zone.surface_area[i];
+        let test = if (0..self.n_slave()).all(|i| share[i] == 0.0 || carries(i)) {
+            first
+        } else {
+            assign(&|i| match (carries(i), in_contact(i)) {
+                (false, _) => 0,
+                (true, false) => 1,
+                (true, true) => 2,
             })
-            .collect();
+        };
         let set = PointSet::new(points, Some(test), &self.copy_of);
         let mechanical = self.swap_points(set);
         self.mechanical_points = Some(mechanical);
