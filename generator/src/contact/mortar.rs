@@ -225,9 +225,10 @@ impl DofIndex {
 }
 
 /// The smallest share of a slave node's lumped area that the contact zone's
-/// test function of the node may cover and carry a thermal multiplier
-/// ([`ContactInterface::freeze`] on the zone): below it the multiplier's
-/// row is a near-zero pivot of the thermal system.
+/// test function of a node out of contact (the zone's fitted edges reach
+/// past the supports of the nodes in contact) may cover and carry a thermal
+/// multiplier ([`ContactInterface::freeze`] on the zone): below it the
+/// multiplier's row is a near-zero pivot of the thermal system.
 pub const ZONE_MIN_SHARE: f64 = 0.05;
 
 /// Per slave node, the factors of its points' gap and jump Hessians in the
@@ -1520,12 +1521,13 @@ impl ContactInterface {
         // (which would lock it to zero over the whole element). Where the
         // fitted edges take the zone beyond the supports of the nodes in
         // contact, the nodes there keep their own test functions; but a
-        // multiplier whose test function covers less than
-        // [`ZONE_MIN_SHARE`] of its node's area would be a near-zero pivot
-        // of the thermal system (seen: 22 of them, and no convergence, on
-        // the egg box's first adaptive level): such a node hands its part to
-        // the point's heir too, and where no node of the point carries a
-        // multiplier the point's sliver of zone is left out.
+        // multiplier of such a node whose test function covers less than
+        // [`ZONE_MIN_SHARE`] of its area would be a near-zero pivot of the
+        // thermal system (seen: 22 of them, and no convergence, on the egg
+        // box's first adaptive level): such a node hands its part to the
+        // point's heir too, and where no node of the point carries a
+        // multiplier the point's sliver of zone is left out. Nodes in
+        // contact carry theirs whatever their part.
         let root = |i: usize| self.copy_of[i];
         // The heir of a point is its node of highest rank (then largest
         // basis value); nodes of the heir's rank keep their weights, the
@@ -1555,14 +1557,16 @@ impl ContactInterface {
         for &(i, w) in first.iter().flatten() {
             share[root(i)] += w;
         }
-        let carries = |i: usize| share[i] >= ZONE_MIN_SHARE * zone.surface_area[i];
+        // Nodes in contact always carry (at first touch the zone covers
+        // little of any node, and it must still conduct).
+        let carries = |i: usize| in_contact(i) || share[i] >= ZONE_MIN_SHARE * zone.surface_area[i];
         let test = if (0..self.n_slave()).all(|i| share[i] == 0.0 || carries(i)) {
             first
         } else {
             assign(&|i| match (carries(i), in_contact(i)) {
-                (false, _) => 0,
+                (_, true) => 2,
                 (true, false) => 1,
-                (true, true) => 2,
+                (false, false) => 0,
             })
         };
         let set = PointSet::new(points, Some(test), &self.copy_of);
