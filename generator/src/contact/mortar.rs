@@ -993,7 +993,6 @@ impl ContactInterface {
         }
     }
 
-    /// Local unknowns `(node, field)` of integration point `q`, in the order of its kinematics.
     /// The positions in a contact element's unknowns (`index`) of point
     /// `q`'s [`ContactInterface::point_dofs`], in their order (`None`:
     /// not an unknown of the element): one search per node.
@@ -1008,6 +1007,7 @@ impl ContactInterface {
         }
     }
 
+    /// Local unknowns `(node, field)` of integration point `q`, in the order of its kinematics.
     fn point_dofs(&self, q: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
         let nf = self.dim + 1;
         let slave = self.points[q].conn.iter().map(|&c| self.slave_nodes[c]);

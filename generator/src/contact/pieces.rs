@@ -92,7 +92,8 @@ impl FacePieces {
                             values.push(x);
                         }
                     }
-                    // Nodal values to monomial coefficients, direction by direction.
+                    // Nodal values to monomial coefficients: the tensor
+                    // product of the directions' inverse Vandermonde matrices.
                     let mut coefficients = vec![[0.0; 3]; values.len()];
                     for (k, c) in coefficients.iter_mut().enumerate() {
                         let (i, j) = (k % n0, k / n0);
