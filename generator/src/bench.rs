@@ -1058,6 +1058,11 @@ pub struct Solver3dRow {
     pub symbolic_s: f64,
     /// Numeric factorization, s.
     pub numeric_s: f64,
+    /// GMRES iterations and seconds of [`LinearSolver::solve_preconditioned`] on a nearby
+    /// matrix (entries scaled by `1 + 0.03 cos(i + j)`, symmetric), preconditioned by the
+    /// factorization: what a Newton iteration that keeps the factors pays instead of
+    /// `numeric_s` (`None`: no convergence within the Newton budget).
+    pub krylov: Option<(usize, f64)>,
 }
 
 /// The 3D direct-solver benchmark (issue 12 item 4): the tangent of a
@@ -1118,6 +1123,17 @@ pub fn solver_3d_bench(degree: usize, elements: &[usize]) -> Result<Vec<Solver3d
             let t = Instant::now();
             solver.factorize(&values)?;
             let numeric_s = t.elapsed().as_secs_f64();
+            let pattern = model.pattern();
+            let mut nearby = values.clone();
+            for j in 0..n_eq {
+                for k in pattern.col_range(j) {
+                    nearby[k] *= 1.0 + 0.03 * ((pattern.row_idx()[k] + j) as f64).cos();
+                }
+            }
+            let t = Instant::now();
+            let krylov = solver
+                .solve_preconditioned(&nearby, &mut vec![1.0; n_eq], 25)?
+                .map(|iterations| (iterations, t.elapsed().as_secs_f64()));
             rows.push(Solver3dRow {
                 system,
                 elements: n,
@@ -1127,6 +1143,7 @@ pub fn solver_3d_bench(degree: usize, elements: &[usize]) -> Result<Vec<Solver3d
                 assembly_s,
                 symbolic_s,
                 numeric_s,
+                krylov,
             });
         }
     }
@@ -1137,7 +1154,7 @@ pub fn solver_3d_bench(degree: usize, elements: &[usize]) -> Result<Vec<Solver3d
 pub fn format_solver_3d_bench(degree: usize, rows: &[Solver3dRow]) -> String {
     let mut s = format!(
         "3D direct solvers (p = {degree} warped cube, n^3 elements, first factorization)\n\
-         system                       n  unknowns   nnz(A)  L MB (16 B/nnz)  assembly s  symbolic s  numeric s\n",
+         system                       n  unknowns   nnz(A)  L MB (16 B/nnz)  assembly s  symbolic s  numeric s  GMRES (nearby matrix)\n",
     );
     for r in rows {
         let factor = r.factor_nnz.map_or_else(
@@ -1145,7 +1162,7 @@ pub fn format_solver_3d_bench(degree: usize, rows: &[Solver3dRow]) -> String {
             |z| format!("{:.1}", 16.0 * z as f64 / 1e6),
         );
         s.push_str(&format!(
-            "{:<27} {:>3} {:>9} {:>8.2e} {:>16} {:>11.3} {:>11.3} {:>10.3}\n",
+            "{:<27} {:>3} {:>9} {:>8.2e} {:>16} {:>11.3} {:>11.3} {:>10.3}  {}\n",
             r.system,
             r.elements,
             r.unknowns,
@@ -1153,7 +1170,11 @@ pub fn format_solver_3d_bench(degree: usize, rows: &[Solver3dRow]) -> String {
             factor,
             r.assembly_s,
             r.symbolic_s,
-            r.numeric_s
+            r.numeric_s,
+            r.krylov.map_or_else(
+                || "no convergence".to_string(),
+                |(k, t)| format!("{k} its, {t:.3} s")
+            )
         ));
     }
     s
@@ -1265,6 +1286,14 @@ mod tests {
         );
         assert!(rows[0].factor_nnz.is_some_and(|z| z >= rows[0].unknowns));
         assert!(rows[1].factor_nnz.is_none());
+        for r in &rows {
+            assert!(
+                r.krylov.is_some_and(|(k, _)| (1..=25).contains(&k)),
+                "{}: {:?}",
+                r.system,
+                r.krylov
+            );
+        }
         let table = format_solver_3d_bench(2, &rows);
         assert!(
             table.contains("coupled, LU + COLAMD") && table.contains("n/a"),

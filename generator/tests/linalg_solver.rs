@@ -327,6 +327,71 @@ fn refactorization_with_new_values_matches_a_fresh_factorization() {
     }
 }
 
+/// GMRES preconditioned by the factors of an earlier matrix of the same pattern solves a nearby
+/// matrix (a Newton tangent a few percent away) to the Krylov tolerance in a few iterations,
+/// leaves the factors and the kept matrix alone (a direct solve afterwards still solves the
+/// factorized matrix), and gives up (`None`, right-hand side unchanged) on a matrix far away
+/// within a small iteration budget, or without factors.
+#[test]
+fn gmres_preconditioned_by_an_earlier_factorization() {
+    let spd = GridSystem::new(25, 20, 1, false);
+    let saddle = GridSystem::new(20, 14, 2, true);
+    let nonsym = GridSystem::new(20, 14, 3, false);
+    let cases: [(&GridSystem, Factorization, f64); 3] = [
+        (&spd, Factorization::Cholesky, 0.0),
+        (
+            &saddle,
+            Factorization::Ldlt {
+                signs: saddle.signs(),
+            },
+            0.0,
+        ),
+        (&nonsym, Factorization::Lu, 2.0),
+    ];
+    for (system, kind, advection) in cases {
+        let (v1, b1) = system.assemble(1.0, 0.01, advection);
+        let (near, b2) = system.assemble(1.03, 0.0103, 1.02 * advection);
+        let (far, _) = system.assemble(8.0, 3.0, 0.1 * advection);
+        let mut solver =
+            LinearSolver::new(system.assembly.symbolic(), kind.clone(), Ordering::Default).unwrap();
+        let mut x = b2.clone();
+        assert_eq!(
+            solver.solve_preconditioned(&near, &mut x, 40).unwrap(),
+            None,
+            "{kind:?}: no factors yet"
+        );
+        assert_eq!(x, b2, "{kind:?}: unchanged without factors");
+        solver.factorize(&v1).unwrap();
+        let x1_before = solve(&mut solver, &b1);
+        let iterations = solver
+            .solve_preconditioned(&near, &mut x, 40)
+            .unwrap()
+            .unwrap_or_else(|| panic!("{kind:?}: GMRES on the nearby matrix"));
+        let res = relative_residual(&system.assembly, &near, &x, &b2);
+        assert!(
+            res <= tcgen::solve::linear::KRYLOV_TOLERANCE,
+            "{kind:?}: residual {res:e}"
+        );
+        assert!(
+            (1..=12).contains(&iterations),
+            "{kind:?}: {iterations} iterations"
+        );
+        // the factors and the kept matrix are still those of v1
+        assert_eq!(
+            solve(&mut solver, &b1),
+            x1_before,
+            "{kind:?}: factors changed"
+        );
+        let mut y = b2.clone();
+        assert_eq!(
+            solver.solve_preconditioned(&far, &mut y, 2).unwrap(),
+            None,
+            "{kind:?}: two iterations on a matrix far away"
+        );
+        assert_eq!(y, b2, "{kind:?}: unchanged when GMRES gives up");
+    }
+}
+
 /// An indefinite matrix given to Cholesky returns `Error::LinearSolver` naming the pivot, and a
 /// later solve fails cleanly instead of using stale factors.
 #[test]

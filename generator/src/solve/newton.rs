@@ -175,7 +175,26 @@ pub struct Newton {
     linear_fallbacks: usize,
     /// Symbolic analyses performed.
     analyses: usize,
+    /// Systems with at least this many unknowns try [`LinearSolver::solve_preconditioned`]
+    /// before factorizing ([`KRYLOV_MIN_EQ`]).
+    krylov_min_eq: usize,
+    /// Newton increments solved by a numeric factorization, and by preconditioned GMRES.
+    factorizations: usize,
+    krylov_solves: usize,
 }
+
+/// Newton increments of systems with at least this many unknowns are first
+/// solved by GMRES preconditioned by the last factorization of the same pattern
+/// (a previous iteration's, or the same phase's in the previous self-consistent
+/// iteration). Measured on the 3D egg box (p = 2, 31 085 mechanical unknowns):
+/// a numeric factorization takes 16.5 s, a preconditioned GMRES iteration a
+/// fraction of a second. Smaller systems (every 2D micro-sample of the tables)
+/// factorize every iteration, as their factorization is cheap.
+pub const KRYLOV_MIN_EQ: usize = 20_000;
+
+/// GMRES iterations tried before a Newton increment is refactorized: a
+/// factorization costs about as many preconditioned iterations on the 3D systems.
+const KRYLOV_ITERATIONS: usize = 25;
 
 /// How many analysed patterns a [`Newton`] keeps.
 const KEPT_SOLVERS: usize = 4;
@@ -190,7 +209,22 @@ impl Newton {
             solvers: Vec::new(),
             linear_fallbacks: 0,
             analyses: 0,
+            krylov_min_eq: KRYLOV_MIN_EQ,
+            factorizations: 0,
+            krylov_solves: 0,
         }
+    }
+
+    /// Sets the size from which increments are first solved by preconditioned GMRES
+    /// ([`KRYLOV_MIN_EQ`] by default; `usize::MAX`: always factorize).
+    pub fn set_krylov_min_eq(&mut self, n: usize) {
+        self.krylov_min_eq = n;
+    }
+
+    /// Newton increments solved so far by a numeric factorization, and by GMRES
+    /// preconditioned by an earlier one.
+    pub fn linear_solves(&self) -> (usize, usize) {
+        (self.factorizations, self.krylov_solves)
     }
 
     /// Frees the kept solvers (their factors and workspaces): the next
@@ -338,18 +372,36 @@ impl Newton {
             p.assemble(Some(&mut values), &mut r)?;
             let tangent = clock.elapsed().as_secs_f64();
             let solver = &mut self.solvers[0];
-            solver
-                .factorize(&values)
-                .map_err(|e| fail(it, e.to_string()))?;
             r.iter_mut().for_each(|v| *v = -*v);
-            solver
-                .solve_in_place(&mut r)
-                .map_err(|e| fail(it, e.to_string()))?;
+            // Large systems first try GMRES preconditioned by the factors of an earlier
+            // tangent of this pattern; a numeric factorization follows where it does not
+            // converge quickly.
+            let krylov = match n >= self.krylov_min_eq && solver.is_factorized() {
+                true => solver
+                    .solve_preconditioned(&values, &mut r, KRYLOV_ITERATIONS)
+                    .map_err(|e| fail(it, e.to_string()))?,
+                false => None,
+            };
+            if krylov.is_none() {
+                solver
+                    .factorize(&values)
+                    .map_err(|e| fail(it, e.to_string()))?;
+                solver
+                    .solve_in_place(&mut r)
+                    .map_err(|e| fail(it, e.to_string()))?;
+                self.factorizations += 1;
+            } else {
+                self.krylov_solves += 1;
+            }
             if trace {
                 eprintln!(
-                    "  step {step} it {it}: prepare {prepared:.2} s, residual {:.2} s, tangent {:.2} s, factorize and solve {:.2} s",
+                    "  step {step} it {it}: prepare {prepared:.2} s, residual {:.2} s, tangent {:.2} s, {} {:.2} s",
                     assembled - prepared,
                     tangent - assembled,
+                    match krylov {
+                        Some(k) => format!("GMRES ({k} iterations)"),
+                        None => "factorize and solve".into(),
+                    },
                     clock.elapsed().as_secs_f64() - tangent
                 );
             }
@@ -532,5 +584,115 @@ mod tests {
             reason.is_some_and(|r| r.contains("regularized")),
             "{reason:?}"
         );
+    }
+
+    /// `R(x) = A x + c x³ − λ b` on a chain of `n` unknowns (`A` the tridiagonal
+    /// `[−1, 2.5, −1]`): a symmetric tangent `A + 3c diag(x²)` that changes with
+    /// every iteration.
+    struct Chain {
+        pattern: SymbolicSparseColMat<usize>,
+        x: Vec<f64>,
+        load: f64,
+    }
+
+    impl Chain {
+        const CUBIC: f64 = 0.5;
+
+        fn new(n: usize) -> Self {
+            let (mut col_ptr, mut row_idx) = (vec![0], Vec::new());
+            for j in 0..n {
+                row_idx.extend(j.saturating_sub(1)..(j + 2).min(n));
+                col_ptr.push(row_idx.len());
+            }
+            Chain {
+                pattern: SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx),
+                x: vec![0.0; n],
+                load: 0.0,
+            }
+        }
+    }
+
+    impl NonlinearProblem for Chain {
+        fn n_eq(&self) -> usize {
+            self.x.len()
+        }
+        fn eq_fields(&self) -> &[usize] {
+            static ZEROS: [usize; 64] = [0; 64];
+            &ZEROS[..self.x.len()]
+        }
+        fn field_names(&self) -> &[&'static str] {
+            &["x"]
+        }
+        fn pattern(&self) -> SymbolicSparseColMatRef<'_, usize> {
+            self.pattern.as_ref()
+        }
+        fn factorization(&self) -> Factorization {
+            Factorization::Cholesky
+        }
+        fn set_load(&mut self, load_factor: f64) {
+            self.load = load_factor;
+        }
+        fn assemble(&mut self, values: Option<&mut [f64]>, residual: &mut [f64]) -> Result<()> {
+            let n = self.x.len();
+            let x = &self.x;
+            for (i, r) in residual.iter_mut().enumerate() {
+                let left = if i > 0 { x[i - 1] } else { 0.0 };
+                let right = if i + 1 < n { x[i + 1] } else { 0.0 };
+                let neighbours = left + right;
+                *r = 2.5 * x[i] - neighbours + Self::CUBIC * x[i].powi(3)
+                    - self.load * (1.0 + (i % 3) as f64);
+            }
+            if let Some(v) = values {
+                let (col_ptr, row_idx) = (self.pattern.col_ptr(), self.pattern.row_idx());
+                for j in 0..n {
+                    for k in col_ptr[j]..col_ptr[j + 1] {
+                        v[k] = match row_idx[k] == j {
+                            true => 2.5 + 3.0 * Self::CUBIC * x[j] * x[j],
+                            false => -1.0,
+                        };
+                    }
+                }
+            }
+            Ok(())
+        }
+        fn load_norms(&self) -> Vec<f64> {
+            vec![self.load * (self.x.len() as f64).sqrt()]
+        }
+        fn update(&mut self, dx: &[f64]) {
+            self.x.iter_mut().zip(dx).for_each(|(x, d)| *x += d);
+        }
+        fn save(&self) -> Vec<f64> {
+            self.x.clone()
+        }
+        fn restore(&mut self, state: &[f64]) {
+            self.x.copy_from_slice(state);
+        }
+    }
+
+    /// Increments solved by GMRES preconditioned by the first iteration's
+    /// factorization reach the solution of the factorized Newton iterations
+    /// (to the tolerance), with one factorization per load step at most.
+    #[test]
+    fn preconditioned_gmres_increments_reach_the_factorized_solution() {
+        let stepping = LoadStepping {
+            initial_step: 0.5,
+            ..LoadStepping::default()
+        };
+        let solve = |krylov_min_eq: usize| {
+            let mut p = Chain::new(40);
+            let mut newton = Newton::new(NewtonSettings::default(), stepping.clone());
+            newton.set_krylov_min_eq(krylov_min_eq);
+            let history = newton.solve(&mut p).unwrap();
+            (p.x, history.total_iterations(), newton.linear_solves())
+        };
+        let (direct, direct_iterations, (factorized, krylov)) = solve(usize::MAX);
+        assert_eq!((factorized, krylov), (direct_iterations, 0));
+        let (x, iterations, (factorized, krylov)) = solve(0);
+        assert!(krylov > 0 && factorized < krylov, "{factorized} / {krylov}");
+        assert_eq!(factorized + krylov, iterations);
+        assert!(x[0] > 0.5, "a nonlinear solution: {}", x[0]);
+        for (a, b) in x.iter().zip(&direct) {
+            assert!((a - b).abs() <= 1e-9 * b.abs(), "{a} against {b}");
+        }
     }
 }
