@@ -604,6 +604,27 @@ impl LinearSolver {
         }
     }
 
+    /// Bytes held: the factor values, the kept pattern and matrix, the factorization
+    /// workspace, and the fallback LU's pattern and matrix (faer does not expose the sizes of
+    /// the symbolic structures and of LU factors, which are not counted).
+    pub fn storage_bytes(&self) -> usize {
+        let f = std::mem::size_of::<f64>();
+        let u = std::mem::size_of::<usize>();
+        let factor = match &self.factors {
+            Factors::Lu { .. } => 0,
+            Factors::Cholesky { l_values, .. } => l_values.len() * f,
+        };
+        let workspace = self
+            .workspace
+            .as_ref()
+            .map_or(0, |(r, _)| r.unaligned_bytes_required());
+        factor
+            + self.values.len() * (f + u)
+            + (self.n_eq() + 1) * u
+            + workspace
+            + self.lu.as_ref().map_or(0, |lu| lu.storage_bytes())
+    }
+
     /// Whether this solver was analysed for exactly `pattern`.
     pub fn analyses(&self, pattern: SymbolicSparseColMatRef<'_, usize>) -> bool {
         let own = self.pattern.as_ref();

@@ -169,8 +169,9 @@ pub struct Newton {
     pub stepping: LoadStepping,
     /// The problem's pattern version the front solver was checked against.
     version: Option<u64>,
-    /// Analysed solvers, most recently used first.
-    solvers: Vec<LinearSolver>,
+    /// Analysed solvers, most recently used first, each with the field classes
+    /// of its problem's equations (a bit per class: the phase it belongs to).
+    solvers: Vec<(u64, LinearSolver)>,
     /// Iterations whose symmetric factorization fell back to LU.
     linear_fallbacks: usize,
     /// Symbolic analyses performed.
@@ -178,6 +179,9 @@ pub struct Newton {
     /// Systems with at least this many unknowns try [`LinearSolver::solve_preconditioned`]
     /// before factorizing ([`KRYLOV_MIN_EQ`]).
     krylov_min_eq: usize,
+    /// Kept solvers of the phase of a new pattern at least this large are dropped before it
+    /// is analysed ([`KEPT_SOLVER_BYTES`]).
+    kept_solver_bytes: usize,
     /// Newton increments solved by a numeric factorization, and by preconditioned GMRES.
     factorizations: usize,
     krylov_solves: usize,
@@ -192,12 +196,29 @@ pub struct Newton {
 /// factorize every iteration, as their factorization is cheap.
 pub const KRYLOV_MIN_EQ: usize = 20_000;
 
-/// GMRES iterations tried before a Newton increment is refactorized: a
-/// factorization costs about as many preconditioned iterations on the 3D systems.
+/// GMRES iterations tried before a Newton increment is refactorized. On the
+/// 3D egg box's third level a factorization costs 16.5 s and a preconditioned
+/// iteration 0.15–0.25 s, and the increments took 17–22 iterations; one that
+/// needs more has a preconditioner gone stale, which a new factorization renews.
 const KRYLOV_ITERATIONS: usize = 25;
 
 /// How many analysed patterns a [`Newton`] keeps.
 const KEPT_SOLVERS: usize = 4;
+
+/// A kept solver at least this large ([`LinearSolver::storage_bytes`]) is
+/// dropped before a new pattern of the same field classes (the same phase) is
+/// analysed: a new contact pattern seldom comes back in large systems, and two
+/// factors of the 3D refined levels do not fit in memory together (the egg
+/// box's fourth level, 580 M factor entries per mechanical pattern: the
+/// self-consistent iterations kept three and ran out of 24 GB). The other
+/// phase's solver is kept (its pattern returns in the next self-consistent
+/// iteration), and so are small solvers (every 2D micro-sample's).
+pub const KEPT_SOLVER_BYTES: usize = 256 << 20;
+
+/// The field classes present in `eq_fields`, a bit per class.
+fn field_classes(eq_fields: &[usize]) -> u64 {
+    eq_fields.iter().fold(0, |m, &f| m | 1u64 << f.min(63))
+}
 
 impl Newton {
     /// A solver with the given settings.
@@ -210,6 +231,7 @@ impl Newton {
             linear_fallbacks: 0,
             analyses: 0,
             krylov_min_eq: KRYLOV_MIN_EQ,
+            kept_solver_bytes: KEPT_SOLVER_BYTES,
             factorizations: 0,
             krylov_solves: 0,
         }
@@ -219,6 +241,12 @@ impl Newton {
     /// ([`KRYLOV_MIN_EQ`] by default; `usize::MAX`: always factorize).
     pub fn set_krylov_min_eq(&mut self, n: usize) {
         self.krylov_min_eq = n;
+    }
+
+    /// Sets the storage from which a kept solver is dropped before a new pattern of its
+    /// phase is analysed ([`KEPT_SOLVER_BYTES`] by default).
+    pub fn set_kept_solver_bytes(&mut self, bytes: usize) {
+        self.kept_solver_bytes = bytes;
     }
 
     /// Newton increments solved so far by a numeric factorization, and by GMRES
@@ -283,13 +311,17 @@ impl Newton {
                 match self
                     .solvers
                     .iter()
-                    .position(|l| *l.kind() == kind && l.analyses(p.pattern()))
+                    .position(|(_, l)| *l.kind() == kind && l.analyses(p.pattern()))
                 {
                     Some(i) => {
                         let kept = self.solvers.remove(i);
                         self.solvers.insert(0, kept);
                     }
                     None => {
+                        let classes = field_classes(p.eq_fields());
+                        self.solvers.retain(|(c, l)| {
+                            *c != classes || l.storage_bytes() < self.kept_solver_bytes
+                        });
                         let ordered = clock.elapsed().as_secs_f64();
                         let ordering = p.ordering(&kind);
                         let analysed = clock.elapsed().as_secs_f64();
@@ -314,7 +346,7 @@ impl Newton {
                             );
                         }
                         self.analyses += 1;
-                        self.solvers.insert(0, solver);
+                        self.solvers.insert(0, (classes, solver));
                         self.solvers.truncate(KEPT_SOLVERS);
                     }
                 }
@@ -371,7 +403,7 @@ impl Newton {
             let mut values = vec![0.0; nnz];
             p.assemble(Some(&mut values), &mut r)?;
             let tangent = clock.elapsed().as_secs_f64();
-            let solver = &mut self.solvers[0];
+            let solver = &mut self.solvers[0].1;
             r.iter_mut().for_each(|v| *v = -*v);
             // Large systems first try GMRES preconditioned by the factors of an earlier
             // tangent of this pattern; a numeric factorization follows where it does not
@@ -405,7 +437,7 @@ impl Newton {
                     clock.elapsed().as_secs_f64() - tangent
                 );
             }
-            if let Some(reason) = solver.fallback() {
+            if let Some(reason) = solver.fallback().filter(|_| krylov.is_none()) {
                 self.linear_fallbacks += 1;
                 if trace {
                     eprintln!("  step {step} λ={load_factor:.4} it {it}: solved by LU: {reason}");
@@ -667,6 +699,117 @@ mod tests {
         fn restore(&mut self, state: &[f64]) {
             self.x.copy_from_slice(state);
         }
+    }
+
+    /// [`Chain`] whose pattern alternates between two versions (the full
+    /// tridiagonal and one without the coupling of the first pair, whose zero
+    /// entries it then lacks) at every update, as a contact pattern does when
+    /// the active set flips.
+    struct Flipping {
+        chain: Chain,
+        patterns: [SymbolicSparseColMat<usize>; 2],
+        version: usize,
+    }
+
+    impl NonlinearProblem for Flipping {
+        fn n_eq(&self) -> usize {
+            self.chain.n_eq()
+        }
+        fn eq_fields(&self) -> &[usize] {
+            self.chain.eq_fields()
+        }
+        fn field_names(&self) -> &[&'static str] {
+            self.chain.field_names()
+        }
+        fn pattern(&self) -> SymbolicSparseColMatRef<'_, usize> {
+            self.patterns[self.version % 2].as_ref()
+        }
+        fn pattern_version(&self) -> u64 {
+            (self.version % 2) as u64
+        }
+        fn factorization(&self) -> Factorization {
+            Factorization::Cholesky
+        }
+        fn set_load(&mut self, load_factor: f64) {
+            self.chain.set_load(load_factor);
+        }
+        fn assemble(&mut self, values: Option<&mut [f64]>, residual: &mut [f64]) -> Result<()> {
+            let mut full = vec![0.0; self.patterns[0].row_idx().len()];
+            let with_values = values.is_some();
+            self.chain
+                .assemble(with_values.then_some(&mut full[..]), residual)?;
+            if let Some(v) = values {
+                // Copy the chain's entries into the current pattern (the first pair's
+                // coupling, absent from pattern 1, is dropped: a modified Newton step).
+                let (full_pattern, own) = (&self.patterns[0], &self.patterns[self.version % 2]);
+                for j in 0..own.ncols() {
+                    for k in own.col_range(j) {
+                        let i = own.row_idx()[k];
+                        let at = full_pattern
+                            .col_range(j)
+                            .find(|&q| full_pattern.row_idx()[q] == i)
+                            .expect("pattern 1 lies in pattern 0");
+                        v[k] = full[at];
+                    }
+                }
+            }
+            Ok(())
+        }
+        fn load_norms(&self) -> Vec<f64> {
+            self.chain.load_norms()
+        }
+        fn update(&mut self, dx: &[f64]) {
+            self.chain.update(dx);
+            self.version += 1;
+        }
+        fn save(&self) -> Vec<f64> {
+            self.chain.save()
+        }
+        fn restore(&mut self, state: &[f64]) {
+            self.chain.restore(state);
+        }
+    }
+
+    /// Solvers of a pattern that returns are reused while they are small; from
+    /// the storage limit on, a new pattern of the same phase replaces the kept
+    /// one (analysed anew when it returns), and the solution is the same.
+    #[test]
+    fn large_solvers_of_the_same_phase_are_dropped_before_a_new_analysis() {
+        let solve = |kept_bytes: usize| {
+            let chain = Chain::new(30);
+            let reduced = {
+                let (mut col_ptr, mut row_idx) = (vec![0], Vec::new());
+                for j in 0..30 {
+                    for &i in &chain.pattern.row_idx()[chain.pattern.col_range(j)] {
+                        if !matches!((i, j), (0, 1) | (1, 0)) {
+                            row_idx.push(i);
+                        }
+                    }
+                    col_ptr.push(row_idx.len());
+                }
+                SymbolicSparseColMat::new_checked(30, 30, col_ptr, None, row_idx)
+            };
+            let mut p = Flipping {
+                patterns: [chain.pattern.clone(), reduced],
+                chain,
+                version: 0,
+            };
+            let mut newton = Newton::new(NewtonSettings::default(), LoadStepping::default());
+            newton.set_kept_solver_bytes(kept_bytes);
+            let history = newton.solve(&mut p).unwrap();
+            (p.chain.x, history.total_iterations(), newton.analyses())
+        };
+        let (kept, iterations, analyses) = solve(KEPT_SOLVER_BYTES);
+        assert!(iterations >= 4, "{iterations} iterations");
+        assert_eq!(analyses, 2, "both patterns kept");
+        let (dropped, iterations_dropped, analyses_dropped) = solve(0);
+        assert_eq!(iterations_dropped, iterations);
+        assert_eq!(
+            analyses_dropped,
+            iterations + 1,
+            "one analysis per pattern change"
+        );
+        assert_eq!(dropped, kept);
     }
 
     /// Increments solved by GMRES preconditioned by the first iteration's
