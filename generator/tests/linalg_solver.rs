@@ -133,6 +133,22 @@ fn relative_residual(assembly: &Assembly, values: &[f64], x: &[f64], b: &[f64]) 
     norm(&r) / norm(b)
 }
 
+/// An SPD system (Cholesky), a saddle point with multipliers (LDLᵀ) and a nonsymmetric system
+/// (LU, with its advection factor).
+fn three_kinds() -> [(GridSystem, Factorization, f64); 3] {
+    let saddle = GridSystem::new(20, 14, 2, true);
+    let signs = saddle.signs();
+    [
+        (
+            GridSystem::new(25, 20, 1, false),
+            Factorization::Cholesky,
+            0.0,
+        ),
+        (saddle, Factorization::Ldlt { signs }, 0.0),
+        (GridSystem::new(20, 14, 3, false), Factorization::Lu, 2.0),
+    ]
+}
+
 fn solve(solver: &mut LinearSolver, b: &[f64]) -> Vec<f64> {
     let mut x = b.to_vec();
     solver.solve_in_place(&mut x).unwrap();
@@ -281,21 +297,8 @@ fn lu_solves_nonsymmetric_system() {
 /// same solution as a fresh solver, for LU, Cholesky and LDLᵀ.
 #[test]
 fn refactorization_with_new_values_matches_a_fresh_factorization() {
-    let spd = GridSystem::new(25, 20, 1, false);
-    let saddle = GridSystem::new(20, 14, 2, true);
-    let nonsym = GridSystem::new(20, 14, 3, false);
-    let cases: [(&GridSystem, Factorization, f64); 3] = [
-        (&spd, Factorization::Cholesky, 0.0),
-        (
-            &saddle,
-            Factorization::Ldlt {
-                signs: saddle.signs(),
-            },
-            0.0,
-        ),
-        (&nonsym, Factorization::Lu, 2.0),
-    ];
-    for (system, kind, advection) in cases {
+    for (system, kind, advection) in &three_kinds() {
+        let (kind, advection) = (kind.clone(), *advection);
         let (v1, b1) = system.assemble(1.0, 0.01, advection);
         let (v2, b2) = system.assemble(3.5, 0.2, 0.7 * advection);
         let mut solver =
@@ -334,21 +337,8 @@ fn refactorization_with_new_values_matches_a_fresh_factorization() {
 /// within a small iteration budget, or without factors.
 #[test]
 fn gmres_preconditioned_by_an_earlier_factorization() {
-    let spd = GridSystem::new(25, 20, 1, false);
-    let saddle = GridSystem::new(20, 14, 2, true);
-    let nonsym = GridSystem::new(20, 14, 3, false);
-    let cases: [(&GridSystem, Factorization, f64); 3] = [
-        (&spd, Factorization::Cholesky, 0.0),
-        (
-            &saddle,
-            Factorization::Ldlt {
-                signs: saddle.signs(),
-            },
-            0.0,
-        ),
-        (&nonsym, Factorization::Lu, 2.0),
-    ];
-    for (system, kind, advection) in cases {
+    for (system, kind, advection) in &three_kinds() {
+        let (kind, advection) = (kind.clone(), *advection);
         let (v1, b1) = system.assemble(1.0, 0.01, advection);
         let (near, b2) = system.assemble(1.03, 0.0103, 1.02 * advection);
         let (far, _) = system.assemble(8.0, 3.0, 0.1 * advection);

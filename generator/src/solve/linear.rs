@@ -478,14 +478,7 @@ impl LinearSolver {
             .map_err(|_| out_of_memory(factors.solve_scratch().unaligned_bytes_required()))?;
         let product = |x: &[f64], y: &mut [f64]| {
             y.fill(0.0);
-            let (col_ptr, row_idx) = (self.pattern.col_ptr(), self.pattern.row_idx());
-            for (j, &xj) in x.iter().enumerate() {
-                if xj != 0.0 {
-                    for k in col_ptr[j]..col_ptr[j + 1] {
-                        y[row_idx[k]] += values[k] * xj;
-                    }
-                }
-            }
+            multiply_add(self.pattern.as_ref(), values, 1.0, x, y);
         };
         let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
         // Arnoldi on A M⁻¹ from x0 = 0 (modified Gram–Schmidt), Givens rotations on the
@@ -673,13 +666,23 @@ impl LinearSolver {
 
     /// r ← r − A x with the kept matrix.
     fn subtract_product(&self, x: &[f64], r: &mut [f64]) {
-        let col_ptr = self.pattern.col_ptr();
-        let row_idx = self.pattern.row_idx();
-        for (j, &xj) in x.iter().enumerate() {
-            if xj != 0.0 {
-                for k in col_ptr[j]..col_ptr[j + 1] {
-                    r[row_idx[k]] -= self.values[k] * xj;
-                }
+        multiply_add(self.pattern.as_ref(), &self.values, -1.0, x, r);
+    }
+}
+
+/// y ← y + α A x, `A` the CSC matrix of `pattern` and `values`.
+fn multiply_add(
+    pattern: SymbolicSparseColMatRef<'_, usize>,
+    values: &[f64],
+    alpha: f64,
+    x: &[f64],
+    y: &mut [f64],
+) {
+    let (col_ptr, row_idx) = (pattern.col_ptr(), pattern.row_idx());
+    for (j, &xj) in x.iter().enumerate() {
+        if xj != 0.0 {
+            for k in col_ptr[j]..col_ptr[j + 1] {
+                y[row_idx[k]] += alpha * values[k] * xj;
             }
         }
     }
