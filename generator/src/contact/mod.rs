@@ -95,7 +95,8 @@ pub enum Integration {
     /// Gauss points per slave element, fixed in the slave (the paper's choice).
     Element,
     /// Slave elements split where the projection changes master piece; exact
-    /// on C0 masters ([`segments`]).
+    /// on C0 masters ([`segments`]); in 3D clipped by the master elements'
+    /// preimages.
     Segment,
     /// Segment-based where the master has C0 corners (degree 1, repeated
     /// knots), element-based otherwise.

@@ -23,7 +23,9 @@
 //! (displacement, temperature); in 3D the master is a surface
 //! ([`crate::contact::projection3d`], periodic in x and y) and the gap and
 //! jump come from [`crate::contact::kinematics3d`]. In 3D the integration is
-//! element-based (`interface_points²` Gauss points per slave element); the
+//! element-based (`interface_points²` Gauss points per slave element), or
+//! clipped by the master elements' preimages on request
+//! ([`Segmenter::cells`]); the
 //! contact area is measured on the interpolated pressure indicator with its
 //! edges fitted to the point gaps just outside them (`edge3d`,
 //! [`ContactInterface::contact_length`]). The thermal phase keeps the nodal
@@ -46,7 +48,7 @@ use crate::contact::projection::{
     MasterCurve, MasterSamples, Projection, project, project_on_element,
 };
 use crate::contact::projection3d::{self, Guess, MasterSearch, MasterSurface, SurfaceProjection};
-use crate::contact::segments::{Breakpoint, Segmenter, cell_points, interval_points};
+use crate::contact::segments::{Breakpoint, Clipping, Segmenter, cell_points, interval_points};
 use crate::contact::{
     ContactSettings, Integration, ThermalContact, ThermalEnforcement, ThermalMethod,
 };
@@ -188,6 +190,8 @@ pub struct ContactInterface {
     breakpoints: Vec<Breakpoint>,
     /// Slave and master control-point positions the segmentation was made for.
     segmented_at: Vec<[f64; 3]>,
+    /// What the last 3D segmentation made of the slave elements.
+    clipping: Clipping,
     /// Slave and master control-point positions of the last projections,
     /// which are reused while these do not move (the thermal phase).
     projected_at: Vec<[f64; 3]>,
@@ -496,15 +500,9 @@ impl ContactInterface {
                     .take(kv_m.n_elements().saturating_sub(1))
                     .any(|&u| kv_m.multiplicity(u) >= kv_m.degree())
         });
-        // Segment-based integration is built for curves; in 3D the
-        // integration is element-based (exact projection at every point).
-        if dim == 3 && settings.integration == Integration::Segment {
-            return Err(Error::invalid(
-                "contact.integration",
-                "\"segment\"",
-                "\"element\" or \"auto\" for 3D samples (segment-based integration is 2D only)",
-            ));
-        }
+        // In 3D "auto" is element-based: the clipping (segments::Segmenter::
+        // cells) costs projections of a sample grid per slave element and
+        // every Newton iteration, and is asked for by name.
         let segmenter = match settings.integration {
             Integration::Segment => true,
             Integration::Auto => c0_master && dim == 2,
@@ -551,6 +549,7 @@ impl ContactInterface {
             segmenter,
             breakpoints: Vec::new(),
             segmented_at: Vec::new(),
+            clipping: Clipping::default(),
             projected_at: Vec::new(),
             break_terms: Vec::new(),
         })
@@ -575,14 +574,20 @@ impl ContactInterface {
             let image = period.map_or(0, |w| (pr.shift / w).round() as i64);
             Ok((pr.element, image, pr.vertex))
         })?;
-        // The lumped areas are the element-based ones (the same integrals).
+        self.take_points(points);
+        self.breakpoints = breakpoints;
+        Ok(())
+    }
+
+    /// Makes `points` the integration points (segment-based integration):
+    /// which points each slave node and each continuum element sees. The
+    /// lumped areas are the element-based ones (the same integrals).
+    fn take_points(&mut self, points: Vec<SlavePoint>) {
         let set = PointSet::new(points, None, &self.copy_of);
         self.owner = set.owner;
         self.node_points = set.node_points;
         self.test = set.test;
         self.points = set.points;
-        self.breakpoints = breakpoints;
-        Ok(())
     }
 
     /// The [`BreakTerm`]s of the current breakpoints.
@@ -836,7 +841,11 @@ impl ContactInterface {
         // On a configuration that has not moved the projections are the
         // previous ones; only the gaps and jumps are re-evaluated.
         let positions: Vec<[f64; 3]> = slave_cur.iter().chain(master_cur).copied().collect();
-        let unmoved = previous.len() == self.points.len() && positions == self.projected_at;
+        // The clipped points depend on the positions only: they are kept
+        // while they do not move (the thermal phase on a frozen configuration).
+        let resegment = self.segmenter.is_some() && positions != self.segmented_at;
+        let unmoved =
+            !resegment && previous.len() == self.points.len() && positions == self.projected_at;
         // The projections evaluate the surface by its polynomial pieces.
         let pieces = (!unmoved).then(|| FacePieces::new(&face, master_cur));
         let surface = MasterSurface {
@@ -845,6 +854,16 @@ impl ContactInterface {
             pieces: pieces.as_ref(),
         };
         let search = MasterSearch::new(&surface, [self.period, self.period]);
+        let mut previous = previous;
+        if resegment && let Some(seg) = &self.segmenter {
+            let (points, clipping) =
+                seg.cells(slave_cur, &surface, &search, self.period.is_some())?;
+            self.take_points(points);
+            self.clipping = clipping;
+            self.segmented_at = positions.clone();
+            // The points moved: no previous projection to start from.
+            previous.clear();
+        }
         let this = &*self;
         let out = this
             .points
@@ -1949,6 +1968,12 @@ impl ContactInterface {
     fn contact_area(&self, ind: &[f64], state: &[f64]) -> f64 {
         self.contact_level_3d(ind.to_vec(), state)
             .area(self, state, AREA_SAMPLES)
+    }
+
+    /// What the last 3D segment-based integration made of the slave
+    /// elements (all zero without one).
+    pub fn clipping(&self) -> Clipping {
+        self.clipping
     }
 
     /// The frozen contact zone (thermal phase).

@@ -296,6 +296,32 @@ impl MasterSearch {
         }
     }
 
+    /// The elements and periodic images whose bounding box lies within
+    /// `reach` of the box `[lo, hi]`: every element that can hold the
+    /// closest point of a point in that box at a distance up to `reach`.
+    pub fn near_box(&self, lo: [f64; 3], hi: [f64; 3], reach: f64) -> Vec<(usize, [i64; 2])> {
+        let mut images = self.images(lo);
+        images.extend(self.images(hi));
+        images.sort_unstable();
+        images.dedup();
+        let mut out = Vec::new();
+        for k in images {
+            let shift = self.shift(k);
+            for (e, (bl, bh)) in self.boxes.iter().enumerate() {
+                let d2: f64 = (0..3)
+                    .map(|c| {
+                        let (a, b) = (bl[c] + shift[c], bh[c] + shift[c]);
+                        (a - hi[c]).max(lo[c] - b).max(0.0).powi(2)
+                    })
+                    .sum();
+                if d2.sqrt() <= reach {
+                    out.push((e, k));
+                }
+            }
+        }
+        out
+    }
+
     /// The periodic images of the master that may hold the closest point to `x`.
     fn images(&self, x: [f64; 3]) -> Vec<[i64; 2]> {
         let range = |c: usize| -> Vec<i64> {

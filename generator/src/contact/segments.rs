@@ -10,19 +10,40 @@
 //! gaps at fixed slave points have kinks and Newton would cycle; and a flat
 //! non-matching interface passes the patch test to round-off on any mesh.
 //!
+//! In 3D ([`Segmenter::cells`]) the pieces are areas: each slave element is
+//! clipped by the *preimages* of the master elements it sees (the slave
+//! points whose closest point lies on that element). A preimage's boundary
+//! is found by projecting sampled points of the master element's edges back
+//! along the master normal onto the slave surface (in its parameters), its
+//! polygon is clipped by the slave element's box, triangulated, and each
+//! triangle gets the collapsed Gauss rule. Where the preimages are
+//! straight in the slave parameters (flat interfaces, cylinders about a
+//! parametric axis) this is exact; where they are curved, the polygon's
+//! chords approximate them. In periodic samples the wedges over a master's
+//! C0 kinks (the seams, degree 1) get a scaled element rule
+//! (`WEDGE_LIMIT`); otherwise an element that the polygons do not cover
+//! (past the end of a non-periodic master, over a kink) keeps its
+//! element-based points.
+//!
 //! The breakpoints follow the configuration; their motion is not
 //! differentiated. First derivatives of the weighted gaps are exact anyway
 //! (the integrand is continuous across a breakpoint); the second derivatives
 //! miss the jump of the integrand's gradient times the breakpoint motion,
-//! which vanishes for a smooth master.
+//! which vanishes for a smooth master (3D: not added at all).
 
 use std::sync::Arc;
+
+use nalgebra::{Matrix3, Vector3};
+use rayon::prelude::*;
 
 use crate::Result;
 use crate::basis::{RationalBasis, TensorBasis};
 use crate::contact::mortar::SlavePoint;
+use crate::contact::projection3d::{self, MasterSearch, MasterSurface, SurfaceEvaluator};
 use crate::geometry::ThbPatch;
 use crate::quadrature::GaussLegendre;
+
+mod clip;
 
 /// Which master piece a slave point projects onto: `(element, periodic image, corner)`.
 pub type Piece = (usize, i64, bool);
@@ -118,6 +139,299 @@ impl Segmenter {
             }
         }
         Ok((out, found))
+    }
+}
+
+/// Samples per master element edge from which the preimage polygons are
+/// built (3D; collinear ones are then dropped).
+const EDGE_SAMPLES: usize = 4;
+
+/// Relative mismatch between a slave element's area and the area of its
+/// clipped polygons up to which the polygons cover it.
+const COVER_TOLERANCE: f64 = 1e-9;
+
+/// Relative mismatch above which a slave element of a periodic sample keeps
+/// its element-based points (a master element was missed). Below it and
+/// above [`COVER_TOLERANCE`] the mismatch is the wedges over C0 kinks of
+/// the master (the seams, where the open bases meet with C0 continuity;
+/// degree-1 masters), whose slave points project onto the kink: they get
+/// the element's rule scaled to their area (negative where preimages
+/// overlap). That is not exact, nor differentiated, but it follows the
+/// configuration continuously (Newton converges) and vanishes in contact,
+/// where a wedge's width, the gap times the kink's angle, goes to zero.
+/// Without periodicity any mismatch above [`COVER_TOLERANCE`] keeps the
+/// element-based points (the end of the master, or a kink).
+const WEDGE_LIMIT: f64 = 1e-2;
+
+/// What [`Segmenter::cells`] made of the slave elements.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Clipping {
+    /// Elements over one master element (their tensor Gauss rule).
+    pub whole: usize,
+    /// Elements split into the preimages of several master elements.
+    pub clipped: usize,
+    /// Elements whose preimages do not cover them (past the end of a
+    /// non-periodic master, over its kinks; in a periodic sample more than
+    /// 1 % missed): element-based points.
+    pub element_based: usize,
+}
+
+/// One slave element in 3D: its points, and which case it was.
+enum ElementCells {
+    Whole,
+    Clipped(Vec<SlavePoint>),
+    ElementBased,
+}
+
+/// The current slave surface, evaluated by its elements beyond its
+/// parameter domain too: periodically continued where the sample is
+/// periodic (the preimages of the master elements across a seam), else
+/// extended linearly (the end of a non-periodic slave, where the polygons
+/// are clipped anyway).
+struct SlaveSurface<'a> {
+    face: &'a ThbPatch,
+    points: &'a [[f64; 3]],
+    domain: ([f64; 2], [f64; 2]),
+    periodic: bool,
+    scratch: TensorBasis,
+    basis: RationalBasis,
+}
+
+impl SlaveSurface<'_> {
+    /// Position and tangents at `xi` inside the domain.
+    fn inside(&mut self, xi: [f64; 2]) -> (Vector3<f64>, [Vector3<f64>; 2]) {
+        let e = self.face.locate(&xi);
+        self.face
+            .element_basis_into(e, &xi, 1, &mut self.scratch, &mut self.basis);
+        let (mut x, mut a) = (Vector3::zeros(), [Vector3::zeros(); 2]);
+        for (k, &g) in self.basis.indices.iter().enumerate() {
+            let p = Vector3::from(self.points[g]);
+            x += self.basis.values[k] * p;
+            for (d, a) in a.iter_mut().enumerate() {
+                *a += self.basis.d1[k][d] * p;
+            }
+        }
+        (x, a)
+    }
+
+    /// Position and tangents at `xi`.
+    fn at(&mut self, xi: [f64; 2]) -> (Vector3<f64>, [Vector3<f64>; 2]) {
+        let (lo, hi) = self.domain;
+        if self.periodic {
+            // ξ = ξ' + k (hi − lo): x(ξ) = x(ξ') + k (x(hi) − x(lo)) per direction.
+            let k = [0, 1].map(|d| ((xi[d] - lo[d]) / (hi[d] - lo[d])).floor());
+            let w = [0, 1].map(|d| (xi[d] - k[d] * (hi[d] - lo[d])).clamp(lo[d], hi[d]));
+            let (mut x, a) = self.inside(w);
+            for d in (0..2).filter(|&d| k[d] != 0.0) {
+                let (mut h, mut l) = (w, w);
+                (h[d], l[d]) = (hi[d], lo[d]);
+                x += k[d] * (self.inside(h).0 - self.inside(l).0);
+            }
+            return (x, a);
+        }
+        let c = [0, 1].map(|d| xi[d].clamp(lo[d], hi[d]));
+        let (x, a) = self.inside(c);
+        (x + a[0] * (xi[0] - c[0]) + a[1] * (xi[1] - c[1]), a)
+    }
+
+    /// The slave parameters `ξ` where the line `y + g n` meets the surface
+    /// (Newton on `(ξ, g)` from `start`), if it converges.
+    fn meet(
+        &mut self,
+        y: Vector3<f64>,
+        n: Vector3<f64>,
+        start: [f64; 2],
+        size: f64,
+    ) -> Option<[f64; 2]> {
+        let (mut xi, mut g) = (start, 0.0);
+        for _ in 0..50 {
+            let (x, a) = self.at(xi);
+            let r = x - y - g * n;
+            let j = Matrix3::from_columns(&[a[0], a[1], -n]);
+            let step = j.lu().solve(&r)?;
+            xi = [xi[0] - step[0], xi[1] - step[1]];
+            g -= step[2];
+            if !(xi[0].is_finite() && xi[1].is_finite()) {
+                return None;
+            }
+            if step[0].abs().max(step[1].abs()) <= 1e-14 * size {
+                return Some(xi);
+            }
+        }
+        None
+    }
+}
+
+impl Segmenter {
+    /// 3D: the integration points of the current configuration (module
+    /// docs). `current`: the slave face's current control points;
+    /// `surface`, `search`: the master in the current configuration;
+    /// `periodic`: whether the sample is periodic in x and y.
+    pub fn cells(
+        &self,
+        current: &[[f64; 3]],
+        surface: &MasterSurface,
+        search: &MasterSearch,
+        periodic: bool,
+    ) -> Result<(Vec<SlavePoint>, Clipping)> {
+        let els = self.face.elements();
+        let mut domain = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for el in els {
+            for d in 0..2 {
+                domain.0[d] = domain.0[d].min(el.lower[d]);
+                domain.1[d] = domain.1[d].max(el.upper[d]);
+            }
+        }
+        let cells = (0..els.len())
+            .into_par_iter()
+            .map(|e| self.element_cells(e, current, (domain, periodic), surface, search))
+            .collect::<Result<Vec<_>>>()?;
+        let (mut out, mut count) = (Vec::new(), Clipping::default());
+        for (e, c) in cells.into_iter().enumerate() {
+            match c {
+                ElementCells::Clipped(points) => {
+                    count.clipped += 1;
+                    out.extend(points);
+                    continue;
+                }
+                ElementCells::Whole => count.whole += 1,
+                ElementCells::ElementBased => count.element_based += 1,
+            }
+            let (lo, hi) = (els[e].lower, els[e].upper);
+            let rule = self.rule.on_interval(lo[1], hi[1]).flat_map(|(y, wy)| {
+                self.rule
+                    .on_interval(lo[0], hi[0])
+                    .map(move |(x, wx)| ([x, y], wx * wy))
+            });
+            cell_points(&self.face, e, rule, &mut out);
+        }
+        Ok((out, count))
+    }
+
+    /// [`Self::cells`] of slave element `e`.
+    fn element_cells(
+        &self,
+        e: usize,
+        current: &[[f64; 3]],
+        (domain, periodic): (([f64; 2], [f64; 2]), bool),
+        surface: &MasterSurface,
+        search: &MasterSearch,
+    ) -> Result<ElementCells> {
+        let el = &self.face.elements()[e];
+        let (lo, hi) = ([el.lower[0], el.lower[1]], [el.upper[0], el.upper[1]]);
+        let mut slave = SlaveSurface {
+            face: &self.face,
+            points: current,
+            domain,
+            periodic,
+            scratch: TensorBasis::default(),
+            basis: RationalBasis::default(),
+        };
+        // Which master elements (and images) the element sees: those within
+        // the largest sampled distance of the box of the samples (a closest
+        // point lies within that distance of its slave point), the box
+        // widened by a sample spacing for the surface between samples.
+        let s = self.samples;
+        let mut samples: Vec<([f64; 2], Vector3<f64>)> = Vec::with_capacity((s + 1) * (s + 1));
+        let (mut bl, mut bh, mut reach) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3], 0.0f64);
+        let mut guess = None;
+        for j in 0..=s {
+            for i in 0..=s {
+                let xi = [0, 1].map(|d| lo[d] + (hi[d] - lo[d]) * [i, j][d] as f64 / s as f64);
+                let x = slave.at(xi).0;
+                let pr = projection3d::project(surface, search, x.into(), guess)?;
+                guess = Some((&pr).into());
+                samples.push((xi, x));
+                reach = reach.max(pr.distance);
+                for c in 0..3 {
+                    bl[c] = bl[c].min(x[c]);
+                    bh[c] = bh[c].max(x[c]);
+                }
+            }
+        }
+        let pad = (0..3).map(|c| bh[c] - bl[c]).fold(0.0, f64::max) / s as f64;
+        let candidates = search.near_box(bl, bh, reach + pad);
+        if candidates.len() <= 1 {
+            return Ok(ElementCells::Whole);
+        }
+        let area = (hi[0] - lo[0]) * (hi[1] - lo[1]);
+        let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+        let tol = 1e-12 * size;
+        let mut ev = SurfaceEvaluator::new(*surface);
+        let mut polygons = Vec::new();
+        for &(m, k) in &candidates {
+            let (ml, mh) = surface.bounds(m);
+            let corners = [ml, [mh[0], ml[1]], mh, [ml[0], mh[1]]];
+            let shift = Vector3::from(search.shift(k));
+            let mut poly = Vec::with_capacity(4 * EDGE_SAMPLES);
+            for c in 0..4 {
+                let (p, q) = (corners[c], corners[(c + 1) % 4]);
+                for t in 0..EDGE_SAMPLES {
+                    let t = t as f64 / EDGE_SAMPLES as f64;
+                    let eta = [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])];
+                    let sp = ev.at(m, eta);
+                    let y = Vector3::from(sp.x) + shift;
+                    let n = Vector3::from(sp.a[0])
+                        .cross(&Vector3::from(sp.a[1]))
+                        .normalize();
+                    // Start from the sample nearest to this point.
+                    let start = samples
+                        .iter()
+                        .min_by(|a, b| {
+                            (a.1 - y)
+                                .norm_squared()
+                                .total_cmp(&(b.1 - y).norm_squared())
+                        })
+                        .map_or([0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])], |x| x.0);
+                    let Some(xi) = slave.meet(y, n, start, size) else {
+                        return Ok(ElementCells::ElementBased);
+                    };
+                    poly.push(xi);
+                }
+            }
+            if clip::signed_area(&poly) < 0.0 {
+                poly.reverse();
+            }
+            let clipped = clip::simplify(clip::clip_to_box(&poly, lo, hi), tol);
+            let a = clip::signed_area(&clipped);
+            if a > tol * size {
+                polygons.push(clipped);
+            }
+        }
+        let covered: f64 = polygons.iter().map(|p| clip::signed_area(p)).sum();
+        let rest = area - covered;
+        let limit = if periodic {
+            WEDGE_LIMIT
+        } else {
+            COVER_TOLERANCE
+        };
+        if rest.abs() > limit * area {
+            return Ok(ElementCells::ElementBased);
+        }
+        if polygons.len() == 1 && rest.abs() <= COVER_TOLERANCE * area {
+            return Ok(ElementCells::Whole);
+        }
+        let mut rule = Vec::new();
+        if rest.abs() > COVER_TOLERANCE * area {
+            // The wedges over C0 kinks: the element's rule scaled to their area.
+            let scale = rest / area;
+            for (y, wy) in self.rule.on_interval(lo[1], hi[1]) {
+                for (x, wx) in self.rule.on_interval(lo[0], hi[0]) {
+                    rule.push(([x, y], scale * wx * wy));
+                }
+            }
+        }
+        for poly in &polygons {
+            let Some(tris) = clip::triangles(poly) else {
+                return Ok(ElementCells::ElementBased);
+            };
+            for t in tris {
+                rule.extend(clip::triangle_points(t, &self.rule));
+            }
+        }
+        let mut out = Vec::with_capacity(rule.len());
+        cell_points(&self.face, e, rule, &mut out);
+        Ok(ElementCells::Clipped(out))
     }
 }
 
@@ -237,5 +551,92 @@ mod tests {
         assert!((m2 - 8.0 / 3.0).abs() < 1e-13);
         // 7 pieces (0.3 × 6 = 1.8 < 2) → 7 segments of 3 points.
         assert_eq!(pts.len(), 21);
+    }
+
+    /// The z = 0 face of a degree-2 block `[x0, x0 + 1] × [0, 1]` with
+    /// `n × n` elements on it (`Side::Low`: the slave, above; `High`: the
+    /// master, below).
+    fn flat_face(x0: f64, n: usize, side: Side) -> ThbPatch {
+        let z = if side == Side::Low {
+            [0.0, 1.0]
+        } else {
+            [-1.0, 0.0]
+        };
+        let mut block = shapes::cuboid([x0, 0.0, z[0]], [x0 + 1.0, 1.0, z[1]]);
+        for d in 0..3 {
+            block = block.elevate_degree(d, 1);
+        }
+        let block = block.refine_uniform(0, n).refine_uniform(1, n);
+        ThbPatch::from(&block.face(2, side).0)
+    }
+
+    /// [`Segmenter::cells`] of `slave`'s reference points over `master`
+    /// (non-periodic).
+    fn clip_over(
+        seg: &Segmenter,
+        slave: &ThbPatch,
+        master: &ThbPatch,
+    ) -> (Vec<SlavePoint>, Clipping) {
+        let surface = MasterSurface {
+            face: master,
+            points: master.control_points(),
+            pieces: None,
+        };
+        let search = MasterSearch::new(&surface, [None, None]);
+        seg.cells(slave.control_points(), &surface, &search, false)
+            .unwrap()
+    }
+
+    #[test]
+    fn clipped_slave_elements_integrate_piecewise_integrands_of_the_master_exactly() {
+        let slave = flat_face(0.0, 3, Side::Low);
+        let seg = Segmenter::new(Arc::new(slave.clone()), 4);
+        let at = |p: &SlavePoint, k: usize| -> f64 {
+            p.conn
+                .iter()
+                .zip(&p.basis)
+                .map(|(&g, n)| n * slave.control_points()[g][k])
+                .sum()
+        };
+        // Master breaks at x, y = 1/4, 1/2, 3/4: inside every slave element.
+        let (points, count) = clip_over(&seg, &slave, &flat_face(0.0, 4, Side::High));
+        assert_eq!(
+            count,
+            Clipping {
+                whole: 0,
+                clipped: 9,
+                element_based: 0
+            }
+        );
+        let area: f64 = points.iter().map(|p| p.weight).sum();
+        assert!((area - 1.0).abs() < 1e-14, "{area}");
+        // A kink of the second derivative at the master's break x = 1/4:
+        // ∫∫ max(x − 1/4, 0)² (y + 1) = (3/4)³/3 · 3/2.
+        let f = |p: &SlavePoint| (at(p, 0) - 0.25).max(0.0).powi(2) * (at(p, 1) + 1.0);
+        let q: f64 = points.iter().map(|p| p.weight * f(p)).sum();
+        assert!((q - 0.2109375).abs() < 1e-14, "{q}");
+        // The element-based rule (what the whole elements get) is not exact.
+        let (mut tensor, rule) = (Vec::new(), GaussLegendre::new(4));
+        for (e, el) in slave.elements().iter().enumerate() {
+            let pts = rule
+                .on_interval(el.lower[1], el.upper[1])
+                .flat_map(|(y, wy)| {
+                    rule.on_interval(el.lower[0], el.upper[0])
+                        .map(move |(x, wx)| ([x, y], wx * wy))
+                });
+            cell_points(&slave, e, pts, &mut tensor);
+        }
+        let qe: f64 = tensor.iter().map(|p| p.weight * f(p)).sum();
+        assert!((qe - 0.2109375).abs() > 1e-5, "{qe}");
+        // The same mesh: every element over one master element.
+        let (_, count) = clip_over(&seg, &slave, &flat_face(0.0, 3, Side::High));
+        assert_eq!((count.whole, count.clipped, count.element_based), (9, 0, 0));
+        // A master shifted by 0.1 in x leaves 30 % of the slave's first
+        // column over no master element (clamped projections): those keep
+        // their element-based points; the others are clipped exactly.
+        let (points, count) = clip_over(&seg, &slave, &flat_face(0.1, 4, Side::High));
+        assert_eq!((count.clipped, count.element_based), (6, 3), "{count:?}");
+        let area: f64 = points.iter().map(|p| p.weight).sum();
+        assert!((area - 1.0).abs() < 1e-14, "{area}");
     }
 }

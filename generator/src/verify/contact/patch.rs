@@ -305,13 +305,19 @@ pub fn thermal_patch(
     // normal), as the mortar sees it: slave node J's balance
     // Σ_I h0^I ⟨N^I N^J⟩ = ⟨N^J h̄ n_y⟩ (flat: h0^I = −h̄), relative to h̄ ⟨N^J⟩.
     let h_bar = s.heat(flux);
-    let normals: Vec<f64> = model.bodies[UPPER]
-        .patch
-        .face_quadrature(hd, Side::Low, settings.interface_points)
-        .iter()
-        .flat_map(|e| e.points.iter().map(|p| p.normal[hd]).collect::<Vec<_>>())
-        .collect();
+    // −⟨N^J h̄ n_y⟩ on the slave face's own Gauss points (the contact
+    // integrals may be segment-based).
     let mut balance = vec![0.0; c.n_slave()];
+    let upper = &model.bodies[UPPER].patch;
+    let (_, face_nodes) = upper.face(hd, Side::Low);
+    for fe in upper.face_quadrature(hd, Side::Low, settings.interface_points) {
+        for qp in &fe.points {
+            for (&g, r) in fe.conn.iter().zip(&qp.r) {
+                let j = face_nodes.iter().position(|&n| n == g).expect("face node");
+                balance[j] -= qp.weight * r * h_bar * qp.normal[hd];
+            }
+        }
+    }
     for (q, sp) in c.points.iter().enumerate() {
         let h0 = if settings.thermal_method == ThermalMethod::Mortar {
             let nodal = |i: usize| match settings.thermal {
@@ -330,7 +336,7 @@ pub fn thermal_patch(
             -c.eps_t * c.state[q].jump.value
         };
         for (&j, n) in sp.conn.iter().zip(&sp.basis) {
-            balance[j] += sp.weight * n * (h0 - h_bar * normals[q]);
+            balance[j] += sp.weight * n * h0;
         }
     }
     let flux_deviation = balance
