@@ -179,6 +179,8 @@ pub struct Newton {
     /// Systems with at least this many unknowns try [`LinearSolver::solve_preconditioned`]
     /// before factorizing ([`KRYLOV_MIN_EQ`]).
     krylov_min_eq: usize,
+    /// ... and factors with at least this many entries per equation ([`KRYLOV_MIN_FILL`]).
+    krylov_min_fill: usize,
     /// Kept solvers of the phase of a new pattern at least this large are dropped before it
     /// is analysed ([`KEPT_SOLVER_BYTES`]).
     kept_solver_bytes: usize,
@@ -196,6 +198,18 @@ pub struct Newton {
 /// factorization is cheap: the demo tables' samples and the 2D adaptive levels
 /// measured so far (at most 11 943 unknowns, adaptive to 1e-4).
 pub const KRYLOV_MIN_EQ: usize = 20_000;
+
+/// ... and whose symmetric factors hold at least this many entries per
+/// equation ([`LinearSolver::factor_nnz`]; LU factors, whose size faer does
+/// not expose, count as large): a deterministic proxy of how much a
+/// factorization costs against a preconditioned iteration. The 3D egg box's
+/// third level has 5 300 (165 M entries for 31 085 equations: factorization
+/// 16.5 s, GMRES iteration 0.15–0.25 s); the uniform 128 × 64 mesh of the
+/// 2D Sect. 5.7 sample has 260 (7.6 M for 29 327), where a factorization
+/// (0.18 s) costs less than the 13–25 GMRES iterations an increment needs
+/// (0.25–0.5 s): with GMRES tried there, its 100 kPa solve took 46 s against
+/// 28 s.
+pub const KRYLOV_MIN_FILL: usize = 1_000;
 
 /// GMRES iterations tried before a Newton increment is refactorized. On the
 /// 3D egg box's third level a factorization costs 16.5 s and a preconditioned
@@ -232,6 +246,7 @@ impl Newton {
             linear_fallbacks: 0,
             analyses: 0,
             krylov_min_eq: KRYLOV_MIN_EQ,
+            krylov_min_fill: KRYLOV_MIN_FILL,
             kept_solver_bytes: KEPT_SOLVER_BYTES,
             factorizations: 0,
             krylov_solves: 0,
@@ -242,6 +257,12 @@ impl Newton {
     /// ([`KRYLOV_MIN_EQ`] by default; `usize::MAX`: always factorize).
     pub fn set_krylov_min_eq(&mut self, n: usize) {
         self.krylov_min_eq = n;
+    }
+
+    /// Sets the factor entries per equation from which increments are first solved by
+    /// preconditioned GMRES ([`KRYLOV_MIN_FILL`] by default).
+    pub fn set_krylov_min_fill(&mut self, entries: usize) {
+        self.krylov_min_fill = entries;
     }
 
     /// Sets the storage from which a kept solver is dropped before a new pattern of its
@@ -409,7 +430,11 @@ impl Newton {
             // Large systems first try GMRES preconditioned by the factors of an earlier
             // tangent of this pattern; a numeric factorization follows where it does not
             // converge quickly.
-            let krylov = match n >= self.krylov_min_eq && solver.is_factorized() {
+            let large = n >= self.krylov_min_eq
+                && solver
+                    .factor_nnz()
+                    .is_none_or(|l| l >= self.krylov_min_fill.saturating_mul(n));
+            let krylov = match large && solver.is_factorized() {
                 true => solver
                     .solve_preconditioned(&values, &mut r, KRYLOV_ITERATIONS)
                     .map_err(|e| fail(it, e.to_string()))?,
@@ -822,18 +847,24 @@ mod tests {
             initial_step: 0.5,
             ..LoadStepping::default()
         };
-        let solve = |krylov_min_eq: usize| {
+        let solve_with = |krylov_min_eq: usize, krylov_min_fill: usize| {
             let mut p = Chain::new(40);
             let mut newton = Newton::new(NewtonSettings::default(), stepping.clone());
             newton.set_krylov_min_eq(krylov_min_eq);
+            newton.set_krylov_min_fill(krylov_min_fill);
             let history = newton.solve(&mut p).unwrap();
             (p.x, history.total_iterations(), newton.linear_solves())
         };
+        let solve = |krylov_min_eq: usize| solve_with(krylov_min_eq, 0);
         let (direct, direct_iterations, (factorized, krylov)) = solve(usize::MAX);
         assert_eq!((factorized, krylov), (direct_iterations, 0));
         let (x, iterations, (factorized, krylov)) = solve(0);
         assert!(krylov > 0 && factorized < krylov, "{factorized} / {krylov}");
         assert_eq!(factorized + krylov, iterations);
+        // The chain's factors hold a few entries per equation: with the
+        // default fill threshold every increment is factorized.
+        let (_, iterations, (factorized, krylov)) = solve_with(0, KRYLOV_MIN_FILL);
+        assert_eq!((factorized, krylov), (iterations, 0));
         assert!(x[0] > 0.5, "a nonlinear solution: {}", x[0]);
         for (a, b) in x.iter().zip(&direct) {
             assert!((a - b).abs() <= 1e-9 * b.abs(), "{a} against {b}");
