@@ -297,15 +297,22 @@ impl Segmenter {
                 ElementCells::Whole => count.whole += 1,
                 ElementCells::ElementBased => count.element_based += 1,
             }
-            let (lo, hi) = (els[e].lower, els[e].upper);
-            let rule = self.rule.on_interval(lo[1], hi[1]).flat_map(|(y, wy)| {
-                self.rule
-                    .on_interval(lo[0], hi[0])
-                    .map(move |(x, wx)| ([x, y], wx * wy))
-            });
+            let rule = self.box_rule(&els[e].lower, &els[e].upper, 1.0);
             cell_points(&self.face, e, rule, &mut out);
         }
         Ok((out, count))
+    }
+
+    /// The tensor Gauss rule on the parameter box `[lo, hi]` (first two
+    /// directions), its weights times `scale`.
+    fn box_rule(&self, lo: &[f64], hi: &[f64], scale: f64) -> Vec<([f64; 2], f64)> {
+        let mut out = Vec::with_capacity(self.rule.len() * self.rule.len());
+        for (y, wy) in self.rule.on_interval(lo[1], hi[1]) {
+            for (x, wx) in self.rule.on_interval(lo[0], hi[0]) {
+                out.push(([x, y], scale * wx * wy));
+            }
+        }
+        out
     }
 
     /// [`Self::cells`] of slave element `e`.
@@ -411,16 +418,11 @@ impl Segmenter {
         if polygons.len() == 1 && rest.abs() <= COVER_TOLERANCE * area {
             return Ok(ElementCells::Whole);
         }
-        let mut rule = Vec::new();
-        if rest.abs() > COVER_TOLERANCE * area {
-            // The wedges over C0 kinks: the element's rule scaled to their area.
-            let scale = rest / area;
-            for (y, wy) in self.rule.on_interval(lo[1], hi[1]) {
-                for (x, wx) in self.rule.on_interval(lo[0], hi[0]) {
-                    rule.push(([x, y], scale * wx * wy));
-                }
-            }
-        }
+        // The wedges over C0 kinks: the element's rule scaled to their area.
+        let mut rule = match rest.abs() > COVER_TOLERANCE * area {
+            true => self.box_rule(&lo, &hi, rest / area),
+            false => Vec::new(),
+        };
         for poly in &polygons {
             let Some(tris) = clip::triangles(poly) else {
                 return Ok(ElementCells::ElementBased);
