@@ -837,7 +837,7 @@ impl ContactInterface {
         master_cur: &[[f64; 3]],
     ) -> Result<()> {
         let face = Arc::clone(&self.master_face);
-        let previous = std::mem::take(&mut self.state);
+        let mut previous = std::mem::take(&mut self.state);
         // On a configuration that has not moved the projections are the
         // previous ones; only the gaps and jumps are re-evaluated.
         let positions: Vec<[f64; 3]> = slave_cur.iter().chain(master_cur).copied().collect();
@@ -854,7 +854,6 @@ impl ContactInterface {
             pieces: pieces.as_ref(),
         };
         let search = MasterSearch::new(&surface, [self.period, self.period]);
-        let mut previous = previous;
         if resegment && let Some(seg) = &self.segmenter {
             let (points, clipping) =
                 seg.cells(slave_cur, &surface, &search, self.period.is_some())?;

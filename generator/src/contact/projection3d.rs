@@ -298,16 +298,23 @@ impl MasterSearch {
 
     /// The elements and periodic images whose bounding box lies within
     /// `reach` of the box `[lo, hi]`: every element that can hold the
-    /// closest point of a point in that box at a distance up to `reach`.
+    /// closest point of a point in that box at a distance up to `reach`
+    /// (the elements listed by the grid's cells near the box, then the
+    /// exact distance between the boxes).
     pub fn near_box(&self, lo: [f64; 3], hi: [f64; 3], reach: f64) -> Vec<(usize, [i64; 2])> {
-        let mut images = self.images(lo);
-        images.extend(self.images(hi));
-        images.sort_unstable();
-        images.dedup();
+        let centre = [0, 1, 2].map(|c| 0.5 * (lo[c] + hi[c]));
+        let radius = reach + (0..2).map(|c| 0.5 * (hi[c] - lo[c])).fold(0.0, f64::max);
+        let (wide_lo, wide_hi) = (lo.map(|v| v - reach), hi.map(|v| v + reach));
         let mut out = Vec::new();
-        for k in images {
+        let mut near = Vec::new();
+        for k in self.images_between(wide_lo, wide_hi) {
             let shift = self.shift(k);
-            for (e, (bl, bh)) in self.boxes.iter().enumerate() {
+            near.clear();
+            self.grid.near(sub(centre, shift), radius, &mut near);
+            near.sort_unstable();
+            near.dedup();
+            for &e in &near {
+                let (bl, bh) = self.boxes[e as usize];
                 let d2: f64 = (0..3)
                     .map(|c| {
                         let (a, b) = (bl[c] + shift[c], bh[c] + shift[c]);
@@ -315,7 +322,7 @@ impl MasterSearch {
                     })
                     .sum();
                 if d2.sqrt() <= reach {
-                    out.push((e, k));
+                    out.push((e as usize, k));
                 }
             }
         }
@@ -324,12 +331,18 @@ impl MasterSearch {
 
     /// The periodic images of the master that may hold the closest point to `x`.
     fn images(&self, x: [f64; 3]) -> Vec<[i64; 2]> {
+        self.images_between(x, x)
+    }
+
+    /// The periodic images of the master that may hold the closest point to
+    /// a point of the box `[lo, hi]`.
+    fn images_between(&self, lo: [f64; 3], hi: [f64; 3]) -> Vec<[i64; 2]> {
         let range = |c: usize| -> Vec<i64> {
             match self.periods[c] {
                 None => vec![0],
                 Some(w) => {
-                    let k0 = ((x[c] - self.extent.1[c]) / w).floor() as i64;
-                    let k1 = ((x[c] - self.extent.0[c]) / w).ceil() as i64;
+                    let k0 = ((lo[c] - self.extent.1[c]) / w).floor() as i64;
+                    let k1 = ((hi[c] - self.extent.0[c]) / w).ceil() as i64;
                     (k0..=k1).collect()
                 }
             }
