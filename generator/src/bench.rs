@@ -1039,6 +1039,226 @@ pub fn format_accuracy_bench(rows: &[AccuracyRow]) -> String {
     s
 }
 
+/// Target of the references of [`effectivity_bench`]: the same case adaptive
+/// to this relative error (and up to [`crate::sample::case::MAX_LEVELS`]).
+pub const EFFECTIVITY_REFERENCE: f64 = 1.0e-4;
+
+/// One point of the estimator's effectivity benchmark ([`effectivity_bench`]).
+#[derive(Debug, Clone)]
+pub struct EffectivityRow {
+    /// `"Sect. 5.7"`, `"Westergaard"` or `"random profile"`.
+    pub case: &'static str,
+    /// Pressure (Pa).
+    pub pressure: f64,
+    /// The jump adaptive to the target (K).
+    pub jump: f64,
+    /// Its estimated error (K).
+    pub estimate: f64,
+    /// Its unknowns.
+    pub dofs: usize,
+    /// Whether it met the target.
+    pub met: bool,
+    /// The reference jump (K): the same case adaptive to [`EFFECTIVITY_REFERENCE`].
+    pub reference: f64,
+    /// The reference's own estimate (K).
+    pub reference_estimate: f64,
+    /// Why the point or its reference failed, if one did (then not counted).
+    pub failure: Option<String>,
+}
+
+impl EffectivityRow {
+    /// The true error `|J − J_ref|` (K).
+    pub fn error(&self) -> f64 {
+        (self.jump - self.reference).abs()
+    }
+
+    /// The effectivity index, estimate / true error, where the true error is
+    /// resolved by the reference (more than twice the reference's own
+    /// estimate); `None` where it is not, or where a solve failed.
+    pub fn effectivity(&self) -> Option<f64> {
+        (self.failure.is_none() && self.error() > 2.0 * self.reference_estimate)
+            .then(|| self.estimate / self.error())
+    }
+}
+
+/// The distribution of the effectivity indices of a set of points.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EffectivitySummary {
+    /// Points.
+    pub points: usize,
+    /// Points whose true error the reference resolves.
+    pub resolved: usize,
+    /// Median effectivity of the resolved points.
+    pub median: f64,
+    /// Smallest and largest effectivity.
+    pub range: (f64, f64),
+    /// Resolved points with an effectivity in the band 0.5–3 (issue 11).
+    pub in_band: usize,
+    /// Resolved points whose estimate bounds the true error (effectivity ≥ 1).
+    pub bounded: usize,
+}
+
+impl EffectivitySummary {
+    /// The summary of `rows`.
+    pub fn of<'a>(rows: impl IntoIterator<Item = &'a EffectivityRow>) -> Self {
+        let mut points = 0;
+        let mut eff = Vec::new();
+        for r in rows {
+            points += 1;
+            eff.extend(r.effectivity());
+        }
+        eff.sort_by(f64::total_cmp);
+        let n = eff.len();
+        let median = match n {
+            0 => f64::NAN,
+            _ if n % 2 == 1 => eff[n / 2],
+            _ => 0.5 * (eff[n / 2 - 1] + eff[n / 2]),
+        };
+        EffectivitySummary {
+            points,
+            resolved: n,
+            median,
+            range: (
+                eff.first().copied().unwrap_or(f64::NAN),
+                eff.last().copied().unwrap_or(f64::NAN),
+            ),
+            in_band: eff.iter().filter(|e| (0.5..=3.0).contains(*e)).count(),
+            bounded: eff.iter().filter(|e| **e >= 1.0).count(),
+        }
+    }
+}
+
+/// The estimator's effectivity benchmark (`tcgen bench --only effectivity`):
+/// every point of three cases adaptive to `target`, against the same case
+/// adaptive to [`EFFECTIVITY_REFERENCE`] (the references' own estimates
+/// printed; a true error below twice that is not resolved and not counted):
+/// - the Sect. 5.7 sample (two-phase self-consistent, from 16 × 8) along
+///   `pressures` pressures of [`MICRO_PRESSURES`];
+/// - Westergaard (`A/λ = 5e-4`, small strain, plain two-phase, from 16 × 8)
+///   at `WESTERGAARD_LEVELS` of `p*`;
+/// - the random profile of the boundary-element check
+///   (`generator/tests/data/random_profile.toml`, from 32 × 16) at its four
+///   pressures.
+pub fn effectivity_bench(target: f64, pressures: usize) -> Result<Vec<EffectivityRow>> {
+    use crate::sample::Case;
+    if !(target > EFFECTIVITY_REFERENCE && target < 1.0) {
+        return Err(Error::invalid(
+            "bench.target",
+            target,
+            format!("a relative error in ({EFFECTIVITY_REFERENCE:e}, 1)"),
+        ));
+    }
+    if pressures < 2 {
+        return Err(Error::invalid("bench.pressures", pressures, "at least 2"));
+    }
+    let (lo, hi) = MICRO_PRESSURES;
+    let mut sect57 = sect57_case(16, lo, Some(target))?;
+    sect57.load.pressures = (0..pressures)
+        .map(|i| lo * (hi / lo).powf(i as f64 / (pressures - 1) as f64))
+        .collect();
+    let wavy = crate::verify::contact::wavy::WavySample {
+        amplitude: 5.0e-9,
+        ..Default::default()
+    };
+    let westergaard = wavy.case(
+        &crate::verify::contact::wavy::WESTERGAARD_LEVELS,
+        [16, 8],
+        [14, 7],
+        &format!("target_error = {target:e}"),
+        "",
+    )?;
+    let mut random = Case::from_toml(
+        include_str!("../tests/data/random_profile.toml"),
+        std::path::Path::new("."),
+    )?;
+    random.discretization.target_error = Some(target);
+    let mut rows = Vec::new();
+    for (name, case) in [
+        ("Sect. 5.7", sect57),
+        ("Westergaard", westergaard),
+        ("random profile", random),
+    ] {
+        let mut deep = case.clone();
+        deep.discretization.target_error = Some(EFFECTIVITY_REFERENCE);
+        deep.discretization.max_levels = crate::sample::case::MAX_LEVELS;
+        let points = crate::homogenize::solve_case(&case, None, |_| {})?;
+        let references = crate::homogenize::solve_case(&deep, None, |_| {})?;
+        for (r, d) in points.iter().zip(&references) {
+            let failure = [r, d]
+                .iter()
+                .find(|x| !x.converged)
+                .map(|x| format!("{:?}", x.status));
+            rows.push(EffectivityRow {
+                case: name,
+                pressure: r.pressure,
+                jump: r.jump,
+                estimate: r.jump_error.unwrap_or(f64::INFINITY),
+                dofs: r.dofs,
+                met: r.error_target_met == Some(true),
+                reference: d.jump,
+                reference_estimate: d.jump_error.unwrap_or(f64::INFINITY),
+                failure,
+            });
+        }
+    }
+    Ok(rows)
+}
+
+/// The effectivity benchmark as text: every point, then the distribution
+/// per case and over all.
+pub fn format_effectivity_bench(target: f64, rows: &[EffectivityRow]) -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "effectivity of the two-level estimate at target_error = {target:e}: estimate / true \
+         error, the true error against the same case adaptive to {EFFECTIVITY_REFERENCE:e} \
+         (unresolved where below twice the reference's own estimate)"
+    );
+    let _ = writeln!(
+        s,
+        "  {:<15} {:>10} {:>6} {:>11} {:>9} {:>4} {:>11} {:>9} {:>9} {:>6}",
+        "case", "p/Pa", "dofs", "jump/K", "estimate", "met", "ref/K", "ref.est.", "error", "eff."
+    );
+    for r in rows {
+        let rel = |x: f64| format!("{:.3}%", 100.0 * x / r.reference.abs());
+        let _ = writeln!(
+            s,
+            "  {:<15} {:>10.3e} {:>6} {:>11.5} {:>9} {:>4} {:>11.5} {:>9} {:>9} {:>6}",
+            r.case,
+            r.pressure,
+            r.dofs,
+            r.jump,
+            rel(r.estimate),
+            if r.met { "yes" } else { "NO" },
+            r.reference,
+            rel(r.reference_estimate),
+            rel(r.error()),
+            match (&r.failure, r.effectivity()) {
+                (Some(_), _) => "FAILED".into(),
+                (None, Some(e)) => format!("{e:.2}"),
+                (None, None) => "unres.".into(),
+            },
+        );
+        if let Some(f) = &r.failure {
+            let _ = writeln!(s, "    failed: {f}");
+        }
+    }
+    let mut names: Vec<&str> = rows.iter().map(|r| r.case).collect();
+    names.dedup();
+    names.push("all");
+    for name in names {
+        let e = EffectivitySummary::of(rows.iter().filter(|r| name == "all" || r.case == name));
+        let _ = writeln!(
+            s,
+            "  {name}: {} of {} points resolved; effectivity median {:.2}, range {:.2}–{:.2}; \
+             {} in 0.5–3; {} bounded (≥ 1)",
+            e.resolved, e.points, e.median, e.range.0, e.range.1, e.in_band, e.bounded
+        );
+    }
+    s
+}
+
 /// One row of the 3D direct-solver benchmark (`tcgen bench --only solvers3d`).
 #[derive(Clone, Debug)]
 pub struct Solver3dRow {
@@ -1271,6 +1491,40 @@ pub fn format_egg_box_bench(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The effectivity summary counts only resolved points of converged
+    /// solves: its median, band and bound follow the indices.
+    #[test]
+    fn effectivity_summary_counts_resolved_points() {
+        let row = |jump: f64, estimate: f64, failure: Option<&str>| EffectivityRow {
+            case: "test",
+            pressure: 1.0,
+            jump,
+            estimate,
+            dofs: 10,
+            met: true,
+            reference: 10.0,
+            reference_estimate: 0.001,
+            failure: failure.map(str::to_string),
+        };
+        let rows = [
+            row(10.01, 0.02, None),    // 2
+            row(10.1, 0.04, None),     // 0.4
+            row(9.99, 0.05, None),     // 5
+            row(10.0015, 0.02, None),  // unresolved (below twice 0.001)
+            row(10.1, 0.1, Some("x")), // failed
+            row(10.02, 0.02, None),    // 1
+        ];
+        assert_eq!(rows[3].effectivity(), None);
+        assert_eq!(rows[4].effectivity(), None);
+        let e = EffectivitySummary::of(&rows);
+        assert_eq!((e.points, e.resolved, e.in_band, e.bounded), (6, 4, 2, 3));
+        assert!((e.median - 1.5).abs() < 1e-9, "{}", e.median);
+        assert!((e.range.0 - 0.4).abs() < 1e-9 && (e.range.1 - 5.0).abs() < 1e-9);
+        let none = EffectivitySummary::of(&rows[3..5]);
+        assert_eq!(none.resolved, 0);
+        assert!(none.median.is_nan());
+    }
 
     /// The 3D benchmark runs on a small cube: the unknowns are the interior
     /// control points (every face fixed) times the fields, and the SPD

@@ -156,6 +156,9 @@ enum Command {
         /// Finest uniform mesh (elements along x) of the accuracy benchmark.
         #[arg(long, default_value_t = 64)]
         finest: usize,
+        /// Target error of the effectivity benchmark.
+        #[arg(long, default_value_t = 0.01)]
+        target: f64,
         /// Elements per direction (even) of the 3D solver benchmark's cubes.
         #[arg(long, value_delimiter = ',', default_values_t = vec![4usize, 8, 12, 16])]
         cube: Vec<usize>,
@@ -176,6 +179,9 @@ enum BenchPart {
     Micro,
     /// Accuracy per cost: uniform against adaptive meshes on the Sect. 5.7 sample.
     Accuracy,
+    /// The error estimate's effectivity (estimate / true error) at every point of
+    /// the Sect. 5.7 path, Westergaard and the random profile.
+    Effectivity,
     /// 3D direct solvers: factorization time and memory versus unknowns (p = 2 cube).
     Solvers3d,
     /// The 3D egg box on a flat along 10 pressures (tables/egg_box_on_flat.toml).
@@ -1030,6 +1036,7 @@ fn main() -> ExitCode {
             pressures,
             only,
             finest,
+            target,
             cube,
             degree,
             levels,
@@ -1058,6 +1065,10 @@ fn main() -> ExitCode {
                 if only.is_none() || only == Some(BenchPart::Accuracy) {
                     let rows = tcgen::bench::adaptivity_bench(finest)?;
                     print!("{}", tcgen::bench::format_accuracy_bench(&rows));
+                }
+                if only.is_none() || only == Some(BenchPart::Effectivity) {
+                    let rows = tcgen::bench::effectivity_bench(target, pressures)?;
+                    print!("{}", tcgen::bench::format_effectivity_bench(target, &rows));
                 }
                 Ok(())
             };

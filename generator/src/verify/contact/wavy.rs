@@ -253,6 +253,61 @@ impl WavySample {
         Ok(out)
     }
 
+    /// The sample as a case file (spec §5 with the case file's own meshes:
+    /// uniform through the height, PR sides, plain two-phase, Table I with a
+    /// constant conductivity) at the fractions `levels` of `p*`, with the
+    /// elements `[nx, nz]` of the upper and lower bodies and extra lines for
+    /// `[discretization]` and `[contact]`: the Westergaard case of the
+    /// adaptivity tests and of `tcgen bench --only effectivity`.
+    pub fn case(
+        &self,
+        levels: &[f64],
+        upper: [usize; 2],
+        lower: [usize; 2],
+        discretization: &str,
+        contact: &str,
+    ) -> Result<crate::sample::Case> {
+        let pressures: Vec<String> = levels
+            .iter()
+            .map(|f| format!("{:e}", f * self.p_star()))
+            .collect();
+        let text = format!(
+            r#"
+[sample]
+width = {w:e}
+height = {h:e}
+lateral = "periodic"
+[surface.upper]
+kind = "sinusoid"
+rms = {rms:e}
+wavelength = {w:e}
+[surface.lower]
+kind = "flat"
+[material]
+conductivity_slope = 0.0
+[discretization]
+degree = {degree}
+elements_upper = {upper:?}
+elements_lower = {lower:?}
+{discretization}
+[contact]
+{contact}
+[homogenization]
+method = "two-phase"
+[load]
+flux = {flux:e}
+pressures = [{p}]
+"#,
+            w = self.wavelength,
+            h = self.height,
+            rms = self.amplitude / 2f64.sqrt(),
+            degree = self.degree,
+            flux = self.flux,
+            p = pressures.join(", "),
+        );
+        crate::sample::Case::from_toml(&text, std::path::Path::new("."))
+    }
+
     /// Closed-form conductance of the strips of half-width `a` between the
     /// two layers at pressure `p` (deformed heights, far faces as in the OHP).
     pub fn strip_conductance(&self, pressure: f64, half_width: f64) -> Result<f64> {
