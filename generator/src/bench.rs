@@ -1040,8 +1040,18 @@ pub fn format_accuracy_bench(rows: &[AccuracyRow]) -> String {
 }
 
 /// Target of the references of [`effectivity_bench`]: the same case adaptive
-/// to this relative error (and up to [`crate::sample::case::MAX_LEVELS`]).
+/// to this relative error (and up to [`crate::sample::case::MAX_LEVELS`]),
+/// from a case mesh of [`EFFECTIVITY_REFERENCE_ELEMENTS`] elements along x.
 pub const EFFECTIVITY_REFERENCE: f64 = 1.0e-4;
+
+/// Elements along x of the case mesh of the references of
+/// [`effectivity_bench`] (the case's counts scaled in proportion). The
+/// adaptive levels refine at the contact edges only, so the contact's
+/// interior keeps the case mesh: at high contact fractions that part of the
+/// error is not in the differences between levels (Westergaard at 0.9 `p*`,
+/// deep from 16, 32 and 64 elements: 0.33393, 0.33615, 0.33650 K, each with
+/// an estimate near 1e-4; docs/adaptivity.md).
+pub const EFFECTIVITY_REFERENCE_ELEMENTS: usize = 64;
 
 /// One point of the estimator's effectivity benchmark ([`effectivity_bench`]).
 #[derive(Debug, Clone)]
@@ -1130,7 +1140,8 @@ impl EffectivitySummary {
 
 /// The estimator's effectivity benchmark (`tcgen bench --only effectivity`):
 /// every point of three cases adaptive to `target`, against the same case
-/// adaptive to [`EFFECTIVITY_REFERENCE`] (the references' own estimates
+/// adaptive to [`EFFECTIVITY_REFERENCE`] from a finer case mesh
+/// ([`EFFECTIVITY_REFERENCE_ELEMENTS`]; the references' own estimates
 /// printed; a true error below twice that is not resolved and not counted):
 /// - the Sect. 5.7 sample (two-phase self-consistent, from 16 × 8) along
 ///   `pressures` pressures of [`MICRO_PRESSURES`];
@@ -1179,8 +1190,12 @@ pub fn effectivity_bench(target: f64, pressures: usize) -> Result<Vec<Effectivit
         ("random profile", random),
     ] {
         let mut deep = case.clone();
-        deep.discretization.target_error = Some(EFFECTIVITY_REFERENCE);
-        deep.discretization.max_levels = crate::sample::case::MAX_LEVELS;
+        let d = &mut deep.discretization;
+        d.target_error = Some(EFFECTIVITY_REFERENCE);
+        d.max_levels = crate::sample::case::MAX_LEVELS;
+        let factor = (EFFECTIVITY_REFERENCE_ELEMENTS / d.elements_upper.along(0)).max(1);
+        d.elements_upper = d.elements_upper.scaled(factor);
+        d.elements_lower = d.elements_lower.scaled(factor);
         let points = crate::homogenize::solve_case(&case, None, |_| {})?;
         let references = crate::homogenize::solve_case(&deep, None, |_| {})?;
         for (r, d) in points.iter().zip(&references) {
@@ -1213,7 +1228,8 @@ pub fn format_effectivity_bench(target: f64, rows: &[EffectivityRow]) -> String 
         s,
         "effectivity of the two-level estimate at target_error = {target:e}: estimate / true \
          error, the true error against the same case adaptive to {EFFECTIVITY_REFERENCE:e} \
-         (unresolved where below twice the reference's own estimate)"
+         from {EFFECTIVITY_REFERENCE_ELEMENTS} elements along x (unresolved where below twice \
+         the reference's own estimate)"
     );
     let _ = writeln!(
         s,

@@ -234,6 +234,11 @@ impl ElementCounts {
         *self.0.last().expect("ElementCounts: no entries")
     }
 
+    /// Every count multiplied by `factor` (a uniformly refined case mesh).
+    pub fn scaled(&self, factor: usize) -> Self {
+        ElementCounts(self.0.iter().map(|n| n * factor).collect())
+    }
+
     /// The lateral counts (`[nx]` in 2D, `[nx, ny]` in 3D).
     pub fn lateral(&self) -> &[usize] {
         &self.0[..self.0.len().saturating_sub(1)]

@@ -146,6 +146,7 @@ fn element_counts_follow_the_dimension() {
     let d = &c.discretization;
     assert_eq!(d.elements_upper.as_slice(), &[8, 8, 4]);
     assert_eq!(d.elements_lower.as_slice(), &[7, 7, 4]);
+    assert_eq!(d.elements_lower.scaled(2).as_slice(), &[14, 14, 8]);
     let t = format!("{EGG_BOX}[discretization]\nelements_upper = [6, 5, 3]\n");
     let c = Case::from_toml(&t, Path::new(".")).unwrap();
     let e = &c.discretization.elements_upper;
