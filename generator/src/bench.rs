@@ -694,6 +694,17 @@ impl IterationCost {
 /// The pressure range of the micro-sample path benchmark (Pa).
 pub const MICRO_PRESSURES: (f64, f64) = (1.0e2, 3.5e5);
 
+/// `pressures` (at least 2) geometrically spaced over [`MICRO_PRESSURES`].
+fn micro_pressures(pressures: usize) -> Result<Vec<f64>> {
+    if pressures < 2 {
+        return Err(Error::invalid("bench.pressures", pressures, "at least 2"));
+    }
+    let (lo, hi) = MICRO_PRESSURES;
+    Ok((0..pressures)
+        .map(|i| lo * (hi / lo).powf(i as f64 / (pressures - 1) as f64))
+        .collect())
+}
+
 /// The name of a factorization kind.
 fn kind_name(kind: &Factorization) -> &'static str {
     match kind {
@@ -731,17 +742,11 @@ fn micro_path<'a>(
 pub fn micro_sample_bench(pressures: usize) -> Result<MicroBench> {
     use crate::bulk::Coupling;
     use crate::solve::NonlinearProblem;
-    if pressures < 2 {
-        return Err(Error::invalid("bench.pressures", pressures, "at least 2"));
-    }
+    let path = micro_pressures(pressures)?;
     let case = crate::sample::Case::from_toml(
         include_str!("../../tables/sinusoid_on_flat.toml"),
         std::path::Path::new("."),
     )?;
-    let (lo, hi) = MICRO_PRESSURES;
-    let path: Vec<f64> = (0..pressures)
-        .map(|i| lo * (hi / lo).powf(i as f64 / (pressures - 1) as f64))
-        .collect();
     // Best of two, alternating (the machine may be shared).
     let (mut lu_wall_s, _, lu_points) = micro_path(&case, &path, false)?;
     let (mut wall_s, _, points) = micro_path(&case, &path, true)?;
@@ -1159,14 +1164,9 @@ pub fn effectivity_bench(target: f64, pressures: usize) -> Result<Vec<Effectivit
             format!("a relative error in ({EFFECTIVITY_REFERENCE:e}, 1)"),
         ));
     }
-    if pressures < 2 {
-        return Err(Error::invalid("bench.pressures", pressures, "at least 2"));
-    }
-    let (lo, hi) = MICRO_PRESSURES;
-    let mut sect57 = sect57_case(16, lo, Some(target))?;
-    sect57.load.pressures = (0..pressures)
-        .map(|i| lo * (hi / lo).powf(i as f64 / (pressures - 1) as f64))
-        .collect();
+    let path = micro_pressures(pressures)?;
+    let mut sect57 = sect57_case(16, path[0], Some(target))?;
+    sect57.load.pressures = path;
     let wavy = crate::verify::contact::wavy::WavySample {
         amplitude: 5.0e-9,
         ..Default::default()
