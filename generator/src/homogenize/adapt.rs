@@ -52,10 +52,11 @@ impl Marks {
 
 /// The contact's interior is refined to level `L / INTERIOR_LEVEL_RATIO`
 /// when the edges reach level `L` (levels 3–5: 1; 6–8: 2). Inside a wide
-/// contact the fields are smooth, and their error falls about 6.5-fold per
-/// halving of the elements (Westergaard at 0.9 `p*`, deep adaptive from 16,
-/// 32 and 64 elements: changes 0.67 % and 0.10 %), where the edges' falls
-/// 2-fold per level; refined at the edges only, the interior kept the case
+/// contact the fields are smooth, and where their error is largest it falls
+/// about 6.5-fold per halving of the elements (Westergaard at 0.9 `p*`, deep
+/// adaptive from 16, 32 and 64 elements: changes 0.67 % and 0.10 %; 2.3–2.9
+/// fold at 0.5–0.7 `p*`), where the edges' falls 2-fold per level (a rule
+/// chosen from these measurements); refined at the edges only, the interior kept the case
 /// mesh's error, which the differences between levels do not contain
 /// (0.7 % from 16 elements at 0.9 `p*`, each solve estimated near 1e-4).
 pub const INTERIOR_LEVEL_RATIO: usize = 3;
