@@ -6,7 +6,8 @@ use tcgen::Error;
 use tcgen::bulk::global::Assembly;
 use tcgen::solve::linear::{Factorization, LinearSolver, Ordering};
 use tcgen::solve::ordering::{
-    approximate_minimum_degree, is_permutation, multipliers_after_neighbours, nested_dissection,
+    approximate_minimum_degree, factor_entries, is_permutation, multipliers_after_neighbours,
+    nested_dissection,
 };
 
 /// A Q1 grid of nx × ny nodes with `fields` unknowns per node, optionally followed by one
@@ -191,7 +192,11 @@ fn ldlt_solves_saddle_point_with_default_and_nd_orderings() {
     let (values, rhs) = system.assemble(1.0, 0.01, 0.0);
     let signs = system.signs();
     let nd = nested_dissection(system.assembly.symbolic(), &system.coords);
-    for ordering in [Ordering::Default, Ordering::Custom(nd)] {
+    for ordering in [
+        Ordering::Default,
+        Ordering::Custom(nd.clone()),
+        Ordering::FewerEntries(nd),
+    ] {
         let kind = Factorization::Ldlt {
             signs: signs.clone(),
         };
@@ -515,7 +520,9 @@ fn multipliers_are_moved_after_their_displacements() {
 }
 
 /// Nested dissection on a 2D Q1 grid gives far less fill than the natural (row-by-row)
-/// ordering and is competitive with AMD.
+/// ordering and is competitive with AMD. `FewerEntries` keeps the better of its permutation
+/// and AMD: given the natural order, it takes AMD's factor (the LDLᵀ saddle point with it:
+/// `ldlt_solves_saddle_point_with_default_and_nd_orderings`).
 #[test]
 fn nested_dissection_reduces_fill_on_a_2d_grid() {
     let system = GridSystem::new(90, 90, 1, false);
@@ -536,6 +543,36 @@ fn nested_dissection_reduces_fill_on_a_2d_grid() {
         "ND {nd} vs natural {natural}"
     );
     assert!((nd as f64) < 1.5 * amd as f64, "ND {nd} vs AMD {amd}");
+    let order: Vec<usize> = (0..n).collect();
+    assert!(factor_entries(p, &order) > 2 * factor_entries(p, &approximate_minimum_degree(p)));
+    assert_eq!(fill(Ordering::FewerEntries(order)), amd);
+}
+
+/// The number of factor entries by symbolic elimination (the elimination game): eliminating
+/// a vertex joins its remaining neighbours into a clique.
+fn elimination_game(n: usize, edges: &[(usize, usize)], perm: &[usize]) -> usize {
+    let mut position = vec![0; n];
+    for (k, &v) in perm.iter().enumerate() {
+        position[v] = k;
+    }
+    let mut later: Vec<std::collections::BTreeSet<usize>> = vec![Default::default(); n];
+    for &(a, b) in edges {
+        let (a, b) = (position[a], position[b]);
+        if a != b {
+            later[a.min(b)].insert(a.max(b));
+        }
+    }
+    let mut entries = 0;
+    for k in 0..n {
+        let row: Vec<usize> = later[k].iter().copied().collect();
+        entries += 1 + row.len();
+        for (i, &u) in row.iter().enumerate() {
+            for &w in &row[i + 1..] {
+                later[u].insert(w);
+            }
+        }
+    }
+    entries
 }
 
 proptest! {
@@ -571,6 +608,37 @@ proptest! {
         let coords: Vec<[f64; 3]> = (0..n).map(|i| [value(raw[3 * i]), value(raw[3 * i + 1]), value(raw[3 * i + 2])]).collect();
         let perm = nested_dissection(pattern, &coords);
         prop_assert!(is_permutation(&perm, n));
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, failure_persistence: None, ..ProptestConfig::default() })]
+    /// `factor_entries` (elimination tree column counts) equals the elimination game on
+    /// random symmetric patterns (lower triangle read) and random orders.
+    #[test]
+    fn factor_entries_match_the_elimination_game(
+        n in 1usize..60,
+        edges in proptest::collection::vec((0usize..60, 0usize..60), 0..300),
+        keys in proptest::collection::vec(0u32..1000, 60),
+    ) {
+        let edges: Vec<(usize, usize)> = edges.into_iter().map(|(a, b)| (a % n, b % n)).collect();
+        let mut columns = vec![std::collections::BTreeSet::new(); n];
+        for (j, c) in columns.iter_mut().enumerate() {
+            c.insert(j);
+        }
+        for &(a, b) in &edges {
+            columns[a.min(b)].insert(a.max(b));
+        }
+        let mut col_ptr = vec![0usize];
+        let mut row_idx = Vec::new();
+        for c in columns {
+            row_idx.extend(c);
+            col_ptr.push(row_idx.len());
+        }
+        let pattern = faer::sparse::SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
+        let mut perm: Vec<usize> = (0..n).collect();
+        perm.sort_by_key(|&i| (keys[i], i));
+        prop_assert_eq!(factor_entries(pattern, &perm), elimination_game(n, &edges, &perm));
     }
 }
 

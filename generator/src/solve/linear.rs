@@ -15,7 +15,8 @@
 //!   columns always ordered by COLAMD.
 
 use super::ordering::{
-    approximate_minimum_degree, inverse_permutation, is_permutation, multipliers_after_neighbours,
+    approximate_minimum_degree, factor_entries, inverse_permutation, is_permutation,
+    multipliers_after_neighbours,
 };
 use crate::{Error, Result};
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
@@ -83,6 +84,10 @@ pub enum Ordering {
     /// `perm[new] = old`: `perm[k]` is the equation eliminated k-th (e.g. from
     /// [`super::ordering::nested_dissection`]). Cholesky and LDLᵀ only.
     Custom(Vec<usize>),
+    /// This permutation or AMD, whichever gives the factor fewer entries (counted from the
+    /// elimination tree, [`super::ordering::factor_entries`]; for LDLᵀ after the multiplier
+    /// adjustment of both). Cholesky and LDLᵀ only.
+    FewerEntries(Vec<usize>),
 }
 
 /// The factorization-specific symbolic and numeric parts.
@@ -152,7 +157,7 @@ impl LinearSolver {
             "LinearSolver::new: the pattern must be square"
         );
         let pattern = owned_pattern(pattern);
-        if let Ordering::Custom(perm) = &ordering
+        if let Ordering::Custom(perm) | Ordering::FewerEntries(perm) = &ordering
             && !is_permutation(perm, n)
         {
             return Err(Error::invalid(
@@ -163,7 +168,7 @@ impl LinearSolver {
         }
         let factors = match &kind {
             Factorization::Lu => {
-                if matches!(ordering, Ordering::Custom(_)) {
+                if !matches!(ordering, Ordering::Default) {
                     return Err(Error::invalid(
                         "ordering",
                         "Custom",
@@ -702,6 +707,11 @@ fn symmetric_permutation(
             return Ok(match ordering {
                 Ordering::Default => None,
                 Ordering::Custom(perm) => Some(perm),
+                Ordering::FewerEntries(perm) => Some(fewer_entries(
+                    pattern,
+                    perm,
+                    approximate_minimum_degree(pattern),
+                )),
             });
         }
     };
@@ -721,7 +731,34 @@ fn symmetric_permutation(
         )),
         Ordering::Custom(perm) if !signs.contains(&-1) => Some(perm),
         Ordering::Custom(perm) => Some(multipliers_after_neighbours(pattern, perm, signs)),
+        Ordering::FewerEntries(perm) => {
+            let adjusted = |perm: Vec<usize>| {
+                if signs.contains(&-1) {
+                    multipliers_after_neighbours(pattern, perm, signs)
+                } else {
+                    perm
+                }
+            };
+            Some(fewer_entries(
+                pattern,
+                adjusted(perm),
+                adjusted(approximate_minimum_degree(pattern)),
+            ))
+        }
     })
+}
+
+/// Of two elimination orders, the one whose Cholesky factor has fewer entries (`a` on a tie).
+fn fewer_entries(
+    pattern: SymbolicSparseColMatRef<'_, usize>,
+    a: Vec<usize>,
+    b: Vec<usize>,
+) -> Vec<usize> {
+    if factor_entries(pattern, &b) < factor_entries(pattern, &a) {
+        b
+    } else {
+        a
+    }
 }
 
 /// A standard-form (sorted, no `col_nnz`) owned copy of `pattern`.

@@ -8,6 +8,9 @@
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::SymbolicSparseColMatRef;
 use faer::sparse::linalg::amd;
+use faer::sparse::linalg::cholesky::simplicial::{
+    prefactorize_symbolic_cholesky, prefactorize_symbolic_cholesky_scratch,
+};
 
 /// Vertex sets at most this large are not bisected further but ordered by AMD.
 pub const LEAF_SIZE: usize = 64;
@@ -102,6 +105,69 @@ pub fn approximate_minimum_degree(pattern: SymbolicSparseColMatRef<'_, usize>) -
         // Index overflow cannot happen with usize indices; fall back to the natural order.
         Err(_) => (0..n).collect(),
     }
+}
+
+/// Entries of the Cholesky factor `L` (diagonal included) of the symmetric matrix whose lower
+/// triangle has the pattern of `pattern`'s lower triangle, eliminated in the order `perm`
+/// (`perm[new] = old`): the sum of the column counts of its elimination tree (faer's
+/// `prefactorize_symbolic_cholesky`, linear in the entries), without the symbolic
+/// factorization itself. The supernodal factor stores somewhat more (its dense blocks).
+///
+/// Panics if `pattern` is not square or `perm` is not a permutation of its equations.
+#[track_caller]
+pub fn factor_entries(pattern: SymbolicSparseColMatRef<'_, usize>, perm: &[usize]) -> usize {
+    let n = pattern.ncols();
+    assert_eq!(
+        pattern.nrows(),
+        n,
+        "factor_entries: the pattern must be square"
+    );
+    let position = inverse_permutation(perm);
+    assert_eq!(
+        position.len(),
+        n,
+        "factor_entries: one position per equation"
+    );
+    // The permuted matrix's upper triangle: entry (i ≥ j) goes to column max, row min.
+    let mut count = vec![0usize; n + 1];
+    let lower = |j: usize| {
+        pattern.row_idx()[pattern.col_range(j)]
+            .iter()
+            .copied()
+            .filter(move |&i| i >= j)
+    };
+    for j in 0..n {
+        for i in lower(j) {
+            count[position[i].max(position[j]) + 1] += 1;
+        }
+    }
+    for k in 0..n {
+        count[k + 1] += count[k];
+    }
+    let mut next = count.clone();
+    let mut row_idx = vec![0usize; count[n]];
+    for j in 0..n {
+        for i in lower(j) {
+            let (a, b) = (position[i], position[j]);
+            let col = a.max(b);
+            row_idx[next[col]] = a.min(b);
+            next[col] += 1;
+        }
+    }
+    let upper = SymbolicSparseColMatRef::new_unsorted_checked(n, n, &count, None, &row_idx);
+    let mut etree = vec![0isize; n];
+    let mut col_counts = vec![0usize; n];
+    let mut buffer = MemBuffer::new(prefactorize_symbolic_cholesky_scratch::<usize>(
+        n,
+        row_idx.len(),
+    ));
+    prefactorize_symbolic_cholesky(
+        &mut etree,
+        &mut col_counts,
+        upper,
+        MemStack::new(&mut buffer),
+    );
+    col_counts.iter().sum()
 }
 
 /// Reorders `perm` (`perm[new] = old`) so that every equation with sign −1 comes after all
