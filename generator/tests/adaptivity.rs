@@ -5,11 +5,14 @@
 
 use std::path::Path;
 
-use tcgen::homogenize::adapt::{Marks, refine_bodies, transfer_state};
+use tcgen::homogenize::adapt::{
+    Marks, equation_prolongation, mark_contact_edges, refine_bodies, transfer_state,
+};
 use tcgen::homogenize::path::{PathSolver, PointResult, two_level_estimate};
 use tcgen::sample::Case;
 use tcgen::sample::case::Method;
-use tcgen::solve::NonlinearProblem;
+use tcgen::sample::micro::UPPER;
+use tcgen::solve::{Model, NonlinearProblem};
 
 #[path = "common/westergaard_case.rs"]
 mod westergaard;
@@ -177,6 +180,56 @@ fn the_state_carries_over_to_refined_bodies() {
     assert_eq!(f.model.state, s.model.state);
     let fine = residual(&mut f.model);
     assert!(coarse < 1e-12 && fine < 1e-12, "{coarse} {fine}");
+}
+
+/// The equation prolongation (the operator of a two-level preconditioner)
+/// is what the state transfer does, on equation vectors: on bodies refined
+/// at the contact edges, the prolongated coarse values (displacements, a
+/// tied group read at one node, contact multipliers) are the transferred
+/// fine ones. At 300 kPa the contact spans the periodic seam, whose copies'
+/// multipliers are read at their nodes'.
+#[test]
+fn the_equation_prolongation_carries_the_state_over() {
+    let c = case("[3.0e5]", "");
+    let mut s = PathSolver::new(&c).unwrap();
+    s.solve_pressure(3.0e5).unwrap();
+    s.model.prepare_contact().unwrap();
+    let marks = mark_contact_edges(&s.model, UPPER).unwrap();
+    assert!(!marks.upper.is_empty() && !marks.lower.is_empty());
+    let bodies = refine_bodies(&s.bodies, &marks);
+    let mut f = PathSolver::with_bodies(&c, s.geometry.clone(), bodies).unwrap();
+    transfer_state(&s.model, &mut f.model);
+    let values = |m: &Model| -> Vec<f64> {
+        let nf = m.dim + 1;
+        let mut v = vec![f64::NAN; m.n_eq()];
+        for node in 0..m.state.len() / nf {
+            for field in 0..nf {
+                if let Some(e) = m.dofs().eq(node, field)
+                    && v[e].is_nan()
+                {
+                    v[e] = m.state[node * nf + field];
+                }
+            }
+        }
+        let contact = m.contact.as_ref().expect("a contact interface");
+        let first = m.multiplier_equations().0.expect("mechanical multipliers");
+        v[first..first + contact.n_slave()].copy_from_slice(&contact.lambda_n);
+        v
+    };
+    let (coarse, fine) = (values(&s.model), values(&f.model));
+    assert!(fine.len() > coarse.len() && fine.iter().all(|v| v.is_finite()));
+    let mut prolongated = vec![0.0; fine.len()];
+    for (e, k, v) in equation_prolongation(&s.model, &f.model) {
+        prolongated[e] += v * coarse[k];
+    }
+    let first = f.model.multiplier_equations().0.unwrap();
+    let scale = |r: std::ops::Range<usize>| fine[r].iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let (u, lambda) = (scale(0..first), scale(first..fine.len()));
+    assert!(u > 0.0 && lambda > 0.0, "{u} {lambda}");
+    for (e, (p, v)) in prolongated.iter().zip(&fine).enumerate() {
+        let s = if e < first { u } else { lambda };
+        assert!((p - v).abs() <= 1e-12 * s, "equation {e}: {p} against {v}");
+    }
 }
 
 #[test]

@@ -189,6 +189,7 @@ fn geometry_is_exact_after_refinement() {
     assert!((area - exact).abs() < 1e-13, "area {area} vs {exact}");
 }
 
+/// The prolongation (and its matrix) reproduces the coarse field.
 #[test]
 fn prolongation_is_exact() {
     let mut rng = ChaCha8Rng::seed_from_u64(5);
@@ -199,6 +200,15 @@ fn prolongation_is_exact() {
             .map(|_| rng.random_range(-1.0..1.0))
             .collect();
         let v = coarse.prolongate(&fine, &u, 2);
+        // Its matrix gives the same coefficients.
+        let mut w = vec![0.0; v.len()];
+        for (a, g, x) in coarse.prolongation_entries(&fine) {
+            w[2 * a] += x * u[2 * g];
+            w[2 * a + 1] += x * u[2 * g + 1];
+        }
+        for (x, y) in v.iter().zip(&w) {
+            assert!((x - y).abs() < 1e-13, "dim {dim} p {p}: matrix {y} vs {x}");
+        }
         let field = |patch: &ThbPatch, c: &[f64], xi: &[f64]| {
             let b = patch.element_basis(patch.locate(xi), xi, 0);
             let mut s = [0.0; 2];

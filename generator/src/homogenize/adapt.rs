@@ -22,6 +22,12 @@
 //!
 //! Dimension-generic: faces are THB patches of dimension `d − 1`, the
 //! neighbours are the face elements whose parametric boxes touch.
+//!
+//! **Prolongation between levels** ([`equation_prolongation`]): the matrix
+//! that carries a vector of the coarse model's equations (an increment) to
+//! the refined model's, the operator of a two-level preconditioner.
+//! `TCGEN_DUMP_TWOLEVEL=dir` writes it with both levels' tangents
+//! ([`write_two_level_system`]; docs/3d.md, "Stop 34").
 
 use std::collections::BTreeSet;
 
@@ -188,4 +194,122 @@ pub fn transfer_state(from: &Model, to: &mut Model) {
             }
         }
     }
+}
+
+/// The prolongation from the equations of `from` to those of `to` (built on
+/// refinements of its bodies, both in the same phase) as `(fine, coarse,
+/// value)` entries: what [`transfer_state`] does to the fields and the
+/// multipliers, on equation vectors. A tied group of nodes (periodic seams,
+/// platens) is one equation, read at one of its nodes; prescribed values
+/// are left out (an increment vanishes there); each periodic copy's
+/// multiplier is read at its node's and prolongated to none.
+pub fn equation_prolongation(from: &Model, to: &Model) -> Vec<(usize, usize, f64)> {
+    use std::collections::{BTreeMap, HashMap};
+    let nf = from.dim + 1;
+    let mut entries: BTreeMap<(usize, usize), f64> = BTreeMap::new();
+    // Each fine equation is read at the first of its nodes met.
+    let mut reader: HashMap<usize, usize> = HashMap::new();
+    for (old, new) in from.bodies.iter().zip(&to.bodies) {
+        for (a, g, v) in old.patch.prolongation_entries(&new.patch) {
+            let node = new.node_offset + a;
+            for f in 0..nf {
+                let (Some(fine), Some(coarse)) = (
+                    to.dofs().eq(node, f),
+                    from.dofs().eq(old.node_offset + g, f),
+                ) else {
+                    continue;
+                };
+                if *reader.entry(fine).or_insert(node) == node {
+                    *entries.entry((fine, coarse)).or_default() += v;
+                }
+            }
+        }
+    }
+    if let (Some(a), Some(b)) = (from.contact.as_ref(), to.contact.as_ref()) {
+        let (coarse, fine) = (from.multiplier_equations(), to.multiplier_equations());
+        for (c0, f0) in [(coarse.0, fine.0), (coarse.1, fine.1)] {
+            let (Some(c0), Some(f0)) = (c0, f0) else {
+                continue;
+            };
+            for (i, g, v) in a.slave_face().prolongation_entries(b.slave_face()) {
+                if !b.is_copy(i) {
+                    *entries.entry((f0 + i, c0 + a.copy_of(g))).or_default() += v;
+                }
+            }
+        }
+    }
+    entries
+        .into_iter()
+        .filter(|&(_, v)| v != 0.0)
+        .map(|((fine, coarse), v)| (fine, coarse, v))
+        .collect()
+}
+
+/// Writes, for the two-level preconditioner's study (docs/3d.md, "Stop
+/// 34"), the tangents of `from` and `to` in their current phase and state
+/// and [`equation_prolongation`] as little-endian arrays in `dir`:
+/// `L{level}_{coarse,fine}_{colptr,rowidx}.u64` (CSC pattern),
+/// `_values.f64`, `_residual.f64`, `_class.u64` (the field class of each
+/// equation: 0 displacement, 1 temperature, 2 λN, 3 λθ), `_positions.f64`
+/// (x, y, z of each equation's node, scaled units), and
+/// `L{level}_P_{rows,cols}.u64`, `_vals.f64`.
+pub fn write_two_level_system(
+    from: &mut Model,
+    to: &mut Model,
+    dir: &std::path::Path,
+    level: usize,
+) -> Result<()> {
+    use crate::solve::NonlinearProblem;
+    let put = |name: String, bytes: Vec<u8>| -> Result<()> {
+        let path = dir.join(name);
+        std::fs::write(&path, bytes).map_err(|e| Error::Io {
+            path: path.display().to_string(),
+            source: e,
+        })
+    };
+    let indices =
+        |v: &[usize]| -> Vec<u8> { v.iter().flat_map(|&x| (x as u64).to_le_bytes()).collect() };
+    let reals = |v: &[f64]| -> Vec<u8> { v.iter().flat_map(|&x| x.to_le_bytes()).collect() };
+    std::fs::create_dir_all(dir).map_err(|e| Error::Io {
+        path: dir.display().to_string(),
+        source: e,
+    })?;
+    for (model, name) in [(&mut *from, "coarse"), (&mut *to, "fine")] {
+        model.prepare()?;
+        let (col_ptr, row_idx) = {
+            let p = model.pattern();
+            (p.col_ptr().to_vec(), p.row_idx().to_vec())
+        };
+        let mut values = vec![0.0; row_idx.len()];
+        let mut residual = vec![0.0; model.n_eq()];
+        model.assemble(Some(&mut values), &mut residual)?;
+        put(format!("L{level}_{name}_colptr.u64"), indices(&col_ptr))?;
+        put(format!("L{level}_{name}_rowidx.u64"), indices(&row_idx))?;
+        put(format!("L{level}_{name}_values.f64"), reals(&values))?;
+        put(format!("L{level}_{name}_residual.f64"), reals(&residual))?;
+        put(
+            format!("L{level}_{name}_class.u64"),
+            indices(model.eq_fields()),
+        )?;
+        let positions: Vec<f64> = model
+            .equation_positions()
+            .iter()
+            .flatten()
+            .copied()
+            .collect();
+        put(format!("L{level}_{name}_positions.f64"), reals(&positions))?;
+    }
+    let p = equation_prolongation(from, to);
+    put(
+        format!("L{level}_P_rows.u64"),
+        indices(&p.iter().map(|e| e.0).collect::<Vec<_>>()),
+    )?;
+    put(
+        format!("L{level}_P_cols.u64"),
+        indices(&p.iter().map(|e| e.1).collect::<Vec<_>>()),
+    )?;
+    put(
+        format!("L{level}_P_vals.f64"),
+        reals(&p.iter().map(|e| e.2).collect::<Vec<_>>()),
+    )
 }

@@ -9,7 +9,9 @@ use serde::Serialize;
 use crate::bulk::Coupling;
 use crate::geometry::Side;
 use crate::homogenize::abp::{AbpProperties, AbpTemperatures, accompanying_bar};
-use crate::homogenize::adapt::{mark_contact_edges, refine_bodies, transfer_state};
+use crate::homogenize::adapt::{
+    mark_contact_edges, refine_bodies, transfer_state, write_two_level_system,
+};
 use crate::material::Material;
 use crate::sample::case::{Acceleration, Case, MasterBody, Method};
 use crate::sample::micro::{
@@ -561,6 +563,13 @@ impl<'a> PathSolver<'a> {
                     break;
                 }
             };
+            if let Some(dir) = std::env::var_os("TCGEN_DUMP_TWOLEVEL") {
+                let src = match fine.as_mut() {
+                    Some(f) => &mut f.model,
+                    None => &mut self.model,
+                };
+                write_two_level_system(src, &mut next.model, std::path::Path::new(&dir), level)?;
+            }
             iterations += solved
                 .iter()
                 .map(|r| r.newton_iterations)

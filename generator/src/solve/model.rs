@@ -614,6 +614,19 @@ impl Model {
         }
     }
 
+    /// The first equations of the mechanical and the thermal contact
+    /// multipliers in the current phase (`λN^I`, `λθ^I` of slave node `I`
+    /// are those plus `I`), None where the phase has none.
+    pub fn multiplier_equations(&self) -> (Option<usize>, Option<usize>) {
+        self.mult_eq
+    }
+
+    /// The reference position of each equation's node (a multiplier at its
+    /// slave node), as the nested dissection orders them.
+    pub fn equation_positions(&self) -> &[[f64; 3]] {
+        &self.eq_coords
+    }
+
     /// Turns the symmetric factorizations (Cholesky, LDLᵀ) of symmetric
     /// tangents on (the default) or off (LU for every phase, e.g. to compare).
     pub fn set_symmetric_solvers(&mut self, on: bool) {

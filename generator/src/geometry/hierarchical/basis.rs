@@ -70,12 +70,7 @@ impl ThbBasis {
         for d in 0..dim {
             degrees[d] = mesh.level(0).knots[d].degree();
         }
-        let mut b = Builder {
-            mesh,
-            degrees,
-            in_domain: HashMap::new(),
-            two_scale: HashMap::new(),
-        };
+        let mut b = Builder::new(mesh, degrees);
         // Active functions, level by level, first direction fastest.
         let mut functions = Vec::new();
         for l in 0..mesh.n_levels() {
@@ -186,7 +181,16 @@ struct Builder<'a> {
     two_scale: HashMap<(usize, usize, u32), Vec<f64>>,
 }
 
-impl Builder<'_> {
+impl<'a> Builder<'a> {
+    fn new(mesh: &'a HierarchicalMesh, degrees: [usize; 3]) -> Self {
+        Builder {
+            mesh,
+            degrees,
+            in_domain: HashMap::new(),
+            two_scale: HashMap::new(),
+        }
+    }
+
     fn p1(&self) -> [usize; 3] {
         self.degrees.map(|p| p + 1)
     }
@@ -344,6 +348,54 @@ impl Builder<'_> {
     }
 }
 
+/// Where THB function `a` of the refinement `to` is read off the coarse space `from`: an
+/// active cell `c` of its level `ℓ` in its support, the element of `from` containing `c`
+/// with its cell `q`, and the index of `B^ℓ_τ` among the level-`ℓ` B-splines on `c`.
+struct FineFunction {
+    c: Cell,
+    q: Cell,
+    element: usize,
+    local: usize,
+}
+
+fn fine_function(
+    from: &ThbBasis,
+    to_mesh: &HierarchicalMesh,
+    to: &ThbBasis,
+    p1: [usize; 3],
+    a: usize,
+) -> FineFunction {
+    let (l, f) = to.functions[a];
+    let range = to_mesh.support(l, f);
+    let mut found = None;
+    to_mesh.all_cells(l, range, |c| {
+        if to_mesh.is_active(c) {
+            found = Some(c);
+            false
+        } else {
+            true
+        }
+    });
+    let c = found.expect("an active function has an active cell of its level in its support");
+    let (q, element) = (0..=l)
+        .find_map(|k| {
+            let q = c.ancestor(k);
+            from.element_of(q).map(|e| (q, e))
+        })
+        .expect("the coarse mesh covers the domain");
+    let spans = to_mesh.spans(c);
+    let mut local = 0;
+    for d in (0..3).rev() {
+        local = local * p1[d] + (f[d] + to.degrees[d] - spans[d]);
+    }
+    FineFunction {
+        c,
+        q,
+        element,
+        local,
+    }
+}
+
 /// Prolongation of a field from the THB space of `from` to that of a refinement `to`
 /// (whose refined cells include those of `from`): the coefficients, `n_comp` per function
 /// (function-major), of the same function in the finer space, exact since the spaces are
@@ -363,42 +415,13 @@ pub fn prolongate(
         from.n_functions() * n_comp,
         "prolongate: coefficients must hold n_comp values per function"
     );
-    let mut b = Builder {
-        mesh: to_mesh,
-        degrees: to.degrees,
-        in_domain: HashMap::new(),
-        two_scale: HashMap::new(),
-    };
+    let mut b = Builder::new(to_mesh, to.degrees);
     let p1 = b.p1();
     let n_local = p1[0] * p1[1] * p1[2];
     let mut out = vec![0.0; to.n_functions() * n_comp];
-    for (a, &(l, f)) in to.functions.iter().enumerate() {
-        let range = to_mesh.support(l, f);
-        let mut found = None;
-        to_mesh.all_cells(l, range, |c| {
-            if to_mesh.is_active(c) {
-                found = Some(c);
-                false
-            } else {
-                true
-            }
-        });
-        let c = found.expect("an active function has an active cell of its level in its support");
-        // The coarse element containing c.
-        let (q, e) = (0..=l)
-            .find_map(|k| {
-                let q = c.ancestor(k);
-                from.element_of(q).map(|e| (q, e))
-            })
-            .expect("the coarse mesh covers the domain");
-        let el = &from.elements[e];
-        let local_index = |s: [usize; 3]| {
-            let mut j = 0;
-            for d in (0..3).rev() {
-                j = j * p1[d] + (f[d] + to.degrees[d] - s[d]);
-            }
-            j
-        };
+    for a in 0..to.n_functions() {
+        let ff = fine_function(from, to_mesh, to, p1, a);
+        let el = &from.elements[ff.element];
         for comp in 0..n_comp {
             let mut v = vec![0.0; n_local];
             for (r, &g) in el.functions.iter().enumerate() {
@@ -412,10 +435,41 @@ pub fn prolongate(
                     }
                 }
             }
-            for k in q.level + 1..=l {
-                b.subdivide(c.ancestor(k), &mut v);
+            for k in ff.q.level + 1..=ff.c.level {
+                b.subdivide(ff.c.ancestor(k), &mut v);
             }
-            out[a * n_comp + comp] = v[local_index(to_mesh.spans(c))];
+            out[a * n_comp + comp] = v[ff.local];
+        }
+    }
+    out
+}
+
+/// The matrix of [`prolongate`] for one component: `(fine, coarse, value)` for every
+/// nonzero coefficient of a coarse function in a fine one.
+pub fn prolongation_entries(
+    from: &ThbBasis,
+    to_mesh: &HierarchicalMesh,
+    to: &ThbBasis,
+) -> Vec<(usize, usize, f64)> {
+    let mut b = Builder::new(to_mesh, to.degrees);
+    let p1 = b.p1();
+    let n_local = p1[0] * p1[1] * p1[2];
+    let mut out = Vec::new();
+    for a in 0..to.n_functions() {
+        let ff = fine_function(from, to_mesh, to, p1, a);
+        let el = &from.elements[ff.element];
+        for (r, &g) in el.functions.iter().enumerate() {
+            let mut v = vec![0.0; n_local];
+            match &el.extraction {
+                None => v[r] = 1.0,
+                Some(x) => v.copy_from_slice(&x[r * n_local..(r + 1) * n_local]),
+            }
+            for k in ff.q.level + 1..=ff.c.level {
+                b.subdivide(ff.c.ancestor(k), &mut v);
+            }
+            if v[ff.local] != 0.0 {
+                out.push((a, g, v[ff.local]));
+            }
         }
     }
     out

@@ -8,7 +8,7 @@
 //! the NURBS map. An unrefined `ThbPatch` has the NURBS patch's functions,
 //! numbering and elements.
 
-use super::basis::{ThbBasis, ThbElement, prolongate};
+use super::basis::{ThbBasis, ThbElement, prolongate, prolongation_entries};
 use super::mesh::{Cell, HierarchicalMesh};
 use crate::basis::{RationalBasis, TensorBasis, bspline_tensor_into, rationalize};
 use crate::geometry::patch_quadrature::{bulk_point, face_point, gauss_rules, tensor_points};
@@ -143,6 +143,16 @@ impl ThbPatch {
         let mut out = prolongate(&self.basis, &to.mesh, &to.basis, &weighted, n_comp);
         for (i, v) in out.iter_mut().enumerate() {
             *v /= to.weights[i / n_comp];
+        }
+        out
+    }
+
+    /// The matrix of [`ThbPatch::prolongate`] for one component: `(fine, coarse, value)`
+    /// for every nonzero coefficient (the weights of the rational basis included).
+    pub fn prolongation_entries(&self, to: &ThbPatch) -> Vec<(usize, usize, f64)> {
+        let mut out = prolongation_entries(&self.basis, &to.mesh, &to.basis);
+        for (a, g, v) in out.iter_mut() {
+            *v *= self.weights[*g] / to.weights[*a];
         }
         out
     }

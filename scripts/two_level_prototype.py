@@ -1,0 +1,186 @@
+#!/usr/bin/env python3
+"""Two-level preconditioners for the tangent of an adaptive level (docs/3d.md, "Stop 34").
+
+Reads what `TCGEN_DUMP_TWOLEVEL=DIR tcgen solve CASE` writes for every adaptive level L
+(`homogenize::adapt::write_two_level_system`): the tangents of level L (fine) and L-1
+(coarse) at the solved state of their phase (the mechanical one), and the exact
+prolongation P between their equations. Solves A x = b (b random) by right-preconditioned
+GMRES to a true relative residual of 1e-8 and prints the iterations of each preconditioner:
+
+  schwarz  boxes of at most --box equations (recursive median bisection of the
+           equations' positions along their longest extent), with --overlap layers of
+           matrix neighbours (and each multiplier's constrained unknowns), local LU
+           (restricted Schwarz);
+           alone, + coarse level additively, and smooth-coarse-smooth
+  vanka    node-block Gauss-Seidel (the equations of one control point) with a patch per
+           active multiplier (its row's unknowns), symmetric sweep, + coarse level
+  ilu      SuperLU's ILUTP (--drop, --fill) as the smoother, + coarse level
+
+The coarse level is level L-1's own tangent ("re-discretized"), or with --galerkin P^T A P.
+Needs numpy and scipy (not part of the test suite's environment):
+  python3 -m venv /tmp/venv && /tmp/venv/bin/pip install numpy scipy
+  /tmp/venv/bin/python scripts/two_level_prototype.py DIR 3 schwarz --box 3000 --overlap 1
+"""
+import argparse
+import time
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as sla
+
+
+def load(directory, level):
+    def read(name, dtype):
+        return np.fromfile(f"{directory}/L{level}_{name}", dtype=dtype)
+
+    def matrix(name):
+        col_ptr = read(f"{name}_colptr.u64", "<u8")
+        n = len(col_ptr) - 1
+        values = read(f"{name}_values.f64", "<f8")
+        return sp.csc_matrix((values, read(f"{name}_rowidx.u64", "<u8"), col_ptr), shape=(n, n))
+
+    fine, coarse = matrix("fine").tocsr(), matrix("coarse").tocsc()
+    p = sp.csr_matrix(
+        (read("P_vals.f64", "<f8"), (read("P_rows.u64", "<u8"), read("P_cols.u64", "<u8"))),
+        shape=(fine.shape[0], coarse.shape[0]),
+    )
+    positions = read("fine_positions.f64", "<f8").reshape(-1, 3)
+    return fine, coarse, p, read("fine_class.u64", "<u8"), positions
+
+
+def gmres_right(a, prec, b, tol=1e-8, maxit=200):
+    """Right-preconditioned GMRES (no restart): the residual it monitors is the true one."""
+    nb = np.linalg.norm(b)
+    v, z, h = [b / nb], [], np.zeros((maxit + 1, maxit))
+    for k in range(maxit):
+        z.append(prec(v[k]))
+        w = a @ z[k]
+        for i in range(k + 1):
+            h[i, k] = v[i] @ w
+            w = w - h[i, k] * v[i]
+        h[k + 1, k] = np.linalg.norm(w)
+        v.append(w / h[k + 1, k])
+        e1 = np.zeros(k + 2)
+        e1[0] = nb
+        y, *_ = np.linalg.lstsq(h[: k + 2, : k + 1], e1, rcond=None)
+        if np.linalg.norm(h[: k + 2, : k + 1] @ y - e1) / nb < tol:
+            break
+    return sum(yi * zi for yi, zi in zip(y, z)), k + 1
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("dir")
+    ap.add_argument("level", type=int)
+    ap.add_argument("smoother", choices=["schwarz", "vanka", "ilu"])
+    ap.add_argument("--box", type=int, default=3000)
+    ap.add_argument("--overlap", type=int, default=1)
+    ap.add_argument("--drop", type=float, default=1e-4)
+    ap.add_argument("--fill", type=float, default=3.0)
+    ap.add_argument("--galerkin", action="store_true")
+    args = ap.parse_args()
+
+    a, coarse, p, classes, x = load(args.dir, args.level)
+    n = a.shape[0]
+    print(f"level {args.level}: {n} equations ({np.count_nonzero(classes >= 2)} multipliers), "
+          f"{a.nnz} entries; coarse {coarse.shape[0]}; P {p.nnz} entries")
+    if args.galerkin:
+        coarse = (p.T @ a @ p).tocsc()
+        unseen = np.asarray(abs(p).sum(0)).ravel() == 0  # e.g. the placeholders of periodic copies
+        coarse = (coarse + sp.diags(unseen.astype(float))).tocsc()
+    coarse_lu = sla.splu(coarse, permc_spec="COLAMD")
+    print(f"coarse LU: {coarse_lu.L.nnz + coarse_lu.U.nnz} entries")
+
+    def coarse_correction(r):
+        return p @ coarse_lu.solve(p.T @ r)
+
+    t = time.time()
+    if args.smoother == "schwarz":
+        graph = (abs(a) + abs(a.T)).tocsr()
+
+        def bisect(eqs):
+            if len(eqs) <= args.box:
+                return [eqs]
+            axis = int(np.argmax(x[eqs].max(0) - x[eqs].min(0)))
+            eqs = eqs[np.argsort(x[eqs, axis], kind="stable")]
+            return bisect(eqs[: len(eqs) // 2]) + bisect(eqs[len(eqs) // 2:])
+
+        boxes = bisect(np.arange(n))
+        local, entries = [], 0
+        for own in boxes:
+            s = own
+            for _ in range(args.overlap):
+                s = np.unique(graph[s].indices)
+            # A multiplier brings the unknowns of its constraint (else a singular box).
+            constrained = s[classes[s] >= 2]
+            if len(constrained):
+                s = np.union1d(s, graph[constrained].indices)
+            lu = sla.splu(a[s][:, s].tocsc(), permc_spec="COLAMD")
+            entries += lu.L.nnz + lu.U.nnz
+            local.append((s, lu, np.isin(s, own)))
+
+        def smooth(r, x):
+            r = r - a @ x
+            for s, lu, keep in local:
+                y = lu.solve(r[s])
+                x[s[keep]] += y[keep]
+            return x
+
+        smooth_back = smooth
+        print(f"{len(local)} boxes, local LU {entries} entries")
+    elif args.smoother == "vanka":
+        degree = np.diff(a.indptr)
+        multipliers = classes >= 2
+        active = np.flatnonzero(multipliers & (degree > 1))
+        # The equations of one control point share its position.
+        bulk = np.flatnonzero(~multipliers)
+        _, node = np.unique(np.round(x[bulk] / 1e-12), axis=0, return_inverse=True)
+        order = np.argsort(node, kind="stable")
+        blocks = np.split(bulk[order], np.flatnonzero(np.diff(node[order])) + 1)
+        blocks += [np.unique(np.append(a.indices[a.indptr[i]:a.indptr[i + 1]], i)) for i in active]
+        blocks = [(s, a[s], np.linalg.pinv(a[s][:, s].toarray())) for s in blocks]
+        inactive = np.flatnonzero(multipliers & (degree == 1))
+
+        def sweep(r, x, order):
+            x[inactive] = r[inactive] / a.diagonal()[inactive]
+            for s, rows, inverse in order:
+                x[s] += inverse @ (r[s] - rows @ x)
+            return x
+
+        def smooth(r, x):
+            return sweep(r, x, blocks)
+
+        def smooth_back(r, x):
+            return sweep(r, x, blocks[::-1])
+
+        print(f"{len(blocks)} blocks ({len(active)} active multiplier patches)")
+    else:
+        ilu = sla.spilu(a.tocsc(), drop_tol=args.drop, fill_factor=args.fill, permc_spec="COLAMD")
+        print(f"ILU {ilu.L.nnz + ilu.U.nnz} entries ({(ilu.L.nnz + ilu.U.nnz) / a.nnz:.1f} x the matrix)")
+
+        def smooth(r, x):
+            return x + ilu.solve(r - a @ x)
+
+        smooth_back = smooth
+    print(f"smoother set up in {time.time() - t:.1f} s")
+
+    b = np.random.default_rng(0).standard_normal(n)
+
+    def cycle(r):
+        x = smooth(r, np.zeros(n))
+        x = x + coarse_correction(r - a @ x)
+        return smooth_back(r, x)
+
+    for label, prec in [
+        ("smoother alone", lambda r: smooth_back(r, smooth(r, np.zeros(n)))),
+        ("smoother + coarse, additive", lambda r: smooth(r, np.zeros(n)) + coarse_correction(r)),
+        ("smooth, coarse, smooth", cycle),
+    ]:
+        t = time.time()
+        x, its = gmres_right(a, prec, b)
+        res = np.linalg.norm(b - a @ x) / np.linalg.norm(b)
+        print(f"  {label}: {its} iterations, true relative residual {res:.1e}, {time.time() - t:.1f} s", flush=True)
+
+
+if __name__ == "__main__":
+    main()
