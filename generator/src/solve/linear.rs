@@ -90,6 +90,17 @@ pub enum Ordering {
     FewerEntries(Vec<usize>),
 }
 
+impl Ordering {
+    /// The variant's name, for messages.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Ordering::Default => "Default",
+            Ordering::Custom(_) => "Custom",
+            Ordering::FewerEntries(_) => "FewerEntries",
+        }
+    }
+}
+
 /// The factorization-specific symbolic and numeric parts.
 enum Factors {
     Lu {
@@ -162,7 +173,7 @@ impl LinearSolver {
         {
             return Err(Error::invalid(
                 "ordering",
-                format!("Custom(len {})", perm.len()),
+                format!("{}(len {})", ordering.name(), perm.len()),
                 format!("a permutation of 0..{n} (perm[new] = old)"),
             ));
         }
@@ -171,7 +182,7 @@ impl LinearSolver {
                 if !matches!(ordering, Ordering::Default) {
                     return Err(Error::invalid(
                         "ordering",
-                        "Custom",
+                        ordering.name(),
                         "Ordering::Default for Factorization::Lu (faer's LU always orders its columns by COLAMD)",
                     ));
                 }

@@ -1,6 +1,7 @@
 //! Fill-reducing orderings for the sparse Cholesky and LDLᵀ factorizations of
-//! [`super::linear`]: geometric nested dissection, faer's AMD, and the saddle-point
-//! adjustment that eliminates each Lagrange multiplier after its displacements.
+//! [`super::linear`]: geometric nested dissection, faer's AMD, the saddle-point
+//! adjustment that eliminates each Lagrange multiplier after its displacements, and the
+//! size of the factor an order gives ([`factor_entries`], to choose between them).
 //!
 //! Permutations follow faer's convention: `perm[new] = old`, i.e. `perm[k]` is the
 //! original equation eliminated k-th.
