@@ -1051,11 +1051,12 @@ pub const EFFECTIVITY_REFERENCE: f64 = 1.0e-4;
 
 /// Elements along x of the case mesh of the references of
 /// [`effectivity_bench`] (the case's counts scaled in proportion). The
-/// adaptive levels refine at the contact edges only, so the contact's
-/// interior keeps the case mesh: at high contact fractions that part of the
-/// error is not in the differences between levels (Westergaard at 0.9 `p*`,
-/// deep from 16, 32 and 64 elements: 0.33393, 0.33615, 0.33650 K, each with
-/// an estimate near 1e-4; docs/adaptivity.md).
+/// contact's interior is refined only to a third of the edges' level
+/// ([`crate::homogenize::adapt::INTERIOR_LEVEL_RATIO`]), so part of its
+/// case-mesh error stays out of the differences between levels: before
+/// that rule, deep solves of Westergaard at 0.9 `p*` from 16, 32 and 64
+/// elements gave 0.33393, 0.33615, 0.33650 K, each with an estimate near
+/// 1e-4 (docs/adaptivity.md). The references start from the finer mesh.
 pub const EFFECTIVITY_REFERENCE_ELEMENTS: usize = 64;
 
 /// One point of the estimator's effectivity benchmark ([`effectivity_bench`]).
