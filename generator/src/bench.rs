@@ -1289,6 +1289,8 @@ pub struct Solver3dRow {
     pub matrix_nnz: usize,
     /// Nonzeros of the Cholesky factor (`None` for LU: faer does not expose them).
     pub factor_nnz: Option<usize>,
+    /// Bytes per factor value: 8, or 4 for the single-precision factor.
+    pub factor_value_bytes: usize,
     /// One assembly of the tangent and residual, s.
     pub assembly_s: f64,
     /// Symbolic analysis (ordering and structure), s.
@@ -1307,21 +1309,44 @@ pub struct Solver3dRow {
 /// mechanical phase (3 fields, SPD), the thermal phase with `k(θ)` (1
 /// field, nonsymmetric) and the coupled thermoelastic system (4 fields), each
 /// with the factorization the solver picks (Cholesky with nested dissection
-/// for SPD, LU with COLAMD otherwise), and the mechanical phase also with LU,
-/// to measure what the symmetric path saves. Times are the first numeric
+/// for SPD, LU with COLAMD otherwise), and the mechanical phase also with its
+/// Cholesky factor in single precision ([`crate::solve::linear::FactorPrecision`])
+/// and with LU, to measure what each saves. Times are the first numeric
 /// factorization on one thread below 20 000 unknowns.
 pub fn solver_3d_bench(degree: usize, elements: &[usize]) -> Result<Vec<Solver3dRow>> {
     use crate::bulk::Coupling;
+    use crate::solve::linear::FactorPrecision::{Double, Single};
     use crate::solve::{ModelBuilder, NonlinearProblem, Scales};
     let m = crate::material::Material::default();
     let mut rows = Vec::new();
     for &n in elements {
         let mesh = crate::verify::mms::warped_cube_mesh(degree, n)?;
-        for (system, coupling, force_lu) in [
-            ("mechanical, Cholesky + ND", Coupling::Mechanical, false),
-            ("mechanical, LU + COLAMD", Coupling::Mechanical, true),
-            ("thermal k(θ), LU + COLAMD", Coupling::Thermal, false),
-            ("coupled, LU + COLAMD", Coupling::Coupled, false),
+        for (system, coupling, force_lu, precision) in [
+            (
+                "mechanical, Cholesky + ND",
+                Coupling::Mechanical,
+                false,
+                Double,
+            ),
+            (
+                "mechanical, Cholesky f32",
+                Coupling::Mechanical,
+                false,
+                Single,
+            ),
+            (
+                "mechanical, LU + COLAMD",
+                Coupling::Mechanical,
+                true,
+                Double,
+            ),
+            (
+                "thermal k(θ), LU + COLAMD",
+                Coupling::Thermal,
+                false,
+                Double,
+            ),
+            ("coupled, LU + COLAMD", Coupling::Coupled, false, Double),
         ] {
             let mut b = ModelBuilder::new(3, Scales::new(1.0, &m));
             let body = b.add_body("cube", &mesh, &m)?;
@@ -1356,6 +1381,7 @@ pub fn solver_3d_bench(degree: usize, elements: &[usize]) -> Result<Vec<Solver3d
             let ordering = model.ordering(&kind);
             let t = Instant::now();
             let mut solver = LinearSolver::new(model.pattern(), kind, ordering)?;
+            solver.set_precision(precision);
             let symbolic_s = t.elapsed().as_secs_f64();
             let t = Instant::now();
             solver.factorize(&values)?;
@@ -1377,6 +1403,10 @@ pub fn solver_3d_bench(degree: usize, elements: &[usize]) -> Result<Vec<Solver3d
                 unknowns: n_eq,
                 matrix_nnz: nnz,
                 factor_nnz: solver.factor_nnz(),
+                factor_value_bytes: match solver.precision() {
+                    Double => 8,
+                    Single => 4,
+                },
                 assembly_s,
                 symbolic_s,
                 numeric_s,
@@ -1391,15 +1421,15 @@ pub fn solver_3d_bench(degree: usize, elements: &[usize]) -> Result<Vec<Solver3d
 pub fn format_solver_3d_bench(degree: usize, rows: &[Solver3dRow]) -> String {
     let mut s = format!(
         "3D direct solvers (p = {degree} warped cube, n^3 elements, first factorization)\n\
-         system                       n  unknowns   nnz(A)  L MB (16 B/nnz)  assembly s  symbolic s  numeric s  GMRES (nearby matrix)\n",
+         system                       n  unknowns   nnz(A)  L values MB  assembly s  symbolic s  numeric s  GMRES (nearby matrix)\n",
     );
     for r in rows {
         let factor = r.factor_nnz.map_or_else(
             || "n/a".to_string(),
-            |z| format!("{:.1}", 16.0 * z as f64 / 1e6),
+            |z| format!("{:.1}", (r.factor_value_bytes * z) as f64 / 1e6),
         );
         s.push_str(&format!(
-            "{:<27} {:>3} {:>9} {:>8.2e} {:>16} {:>11.3} {:>11.3} {:>10.3}  {}\n",
+            "{:<27} {:>3} {:>9} {:>8.2e} {:>12} {:>11.3} {:>11.3} {:>10.3}  {}\n",
             r.system,
             r.elements,
             r.unknowns,
@@ -1545,7 +1575,7 @@ mod tests {
 
     /// The 3D benchmark runs on a small cube: the unknowns are the interior
     /// control points (every face fixed) times the fields, and the SPD
-    /// mechanical system gets its Cholesky factor.
+    /// mechanical system gets its Cholesky factor, in f64 and in f32.
     #[test]
     fn solver_3d_bench_counts_the_interior_unknowns() {
         let rows = solver_3d_bench(2, &[4]).unwrap();
@@ -1553,10 +1583,22 @@ mod tests {
         let unknowns: Vec<usize> = rows.iter().map(|r| r.unknowns).collect();
         assert_eq!(
             unknowns,
-            vec![3 * interior, 3 * interior, interior, 4 * interior]
+            vec![
+                3 * interior,
+                3 * interior,
+                3 * interior,
+                interior,
+                4 * interior
+            ]
         );
         assert!(rows[0].factor_nnz.is_some_and(|z| z >= rows[0].unknowns));
-        assert!(rows[1].factor_nnz.is_none());
+        // The single-precision row: the same factor, half the bytes per value.
+        assert_eq!(rows[1].factor_nnz, rows[0].factor_nnz);
+        assert_eq!(
+            (rows[0].factor_value_bytes, rows[1].factor_value_bytes),
+            (8, 4)
+        );
+        assert!(rows[2].factor_nnz.is_none());
         for r in &rows {
             assert!(
                 r.krylov.is_some_and(|(k, _)| (1..=25).contains(&k)),

@@ -4,7 +4,9 @@
 use proptest::prelude::*;
 use tcgen::Error;
 use tcgen::bulk::global::Assembly;
-use tcgen::solve::linear::{Factorization, LinearSolver, Ordering};
+use tcgen::solve::linear::{
+    FactorPrecision, Factorization, KRYLOV_TOLERANCE, LinearSolver, Ordering,
+};
 use tcgen::solve::ordering::{
     approximate_minimum_degree, factor_entries, is_permutation, multipliers_after_neighbours,
     nested_dissection,
@@ -121,15 +123,23 @@ impl GridSystem {
     }
 }
 
-/// ‖Ax − b‖₂ / ‖b‖₂ with A the full CSC matrix.
-fn relative_residual(assembly: &Assembly, values: &[f64], x: &[f64], b: &[f64]) -> f64 {
+/// b − Ax with A the full CSC matrix, and the row sums of |A|.
+fn residual(assembly: &Assembly, values: &[f64], x: &[f64], b: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let pattern = assembly.symbolic();
     let mut r = b.to_vec();
+    let mut row_sums = vec![0.0f64; b.len()];
     for (j, &xj) in x.iter().enumerate() {
         for k in pattern.col_range(j) {
             r[pattern.row_idx()[k]] -= values[k] * xj;
+            row_sums[pattern.row_idx()[k]] += values[k].abs();
         }
     }
+    (r, row_sums)
+}
+
+/// ‖Ax − b‖₂ / ‖b‖₂ with A the full CSC matrix.
+fn relative_residual(assembly: &Assembly, values: &[f64], x: &[f64], b: &[f64]) -> f64 {
+    let (r, _) = residual(assembly, values, x, b);
     let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
     norm(&r) / norm(b)
 }
@@ -385,6 +395,87 @@ fn gmres_preconditioned_by_an_earlier_factorization() {
         );
         assert_eq!(y, b2, "{kind:?}: unchanged when GMRES gives up");
     }
+}
+
+/// ‖b − Ax‖∞ / (‖A‖∞‖x‖∞ + ‖b‖∞): the backward error of a solution.
+fn backward_error(assembly: &Assembly, values: &[f64], x: &[f64], b: &[f64]) -> f64 {
+    let (r, row_sums) = residual(assembly, values, x, b);
+    let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    inf(&r) / (inf(&row_sums) * inf(x) + inf(b))
+}
+
+/// Cholesky and LDLᵀ factors stored in single precision solve to the Krylov tolerance by
+/// GMRES (the matrix and residuals in double), agree with the double-precision solution, stay
+/// single (no escalation) on well-conditioned matrices and refactorizations, and hold half
+/// the factor's bytes; LU ignores the setting.
+#[test]
+fn single_precision_factors_solve_to_double_accuracy() {
+    for (system, kind, advection) in &three_kinds() {
+        let (kind, advection) = (kind.clone(), *advection);
+        let (v1, b1) = system.assemble(1.0, 0.01, advection);
+        let (v2, b2) = system.assemble(3.5, 0.2, 0.7 * advection);
+        let pattern = system.assembly.symbolic();
+        let mut double = LinearSolver::new(pattern, kind.clone(), Ordering::Default).unwrap();
+        let mut single = LinearSolver::new(pattern, kind.clone(), Ordering::Default).unwrap();
+        single.set_precision(FactorPrecision::Single);
+        if kind == Factorization::Lu {
+            assert_eq!(
+                single.precision(),
+                FactorPrecision::Double,
+                "LU stays double"
+            );
+            continue;
+        }
+        assert_eq!(single.precision(), FactorPrecision::Single);
+        for (values, rhs) in [(&v1, &b1), (&v2, &b2)] {
+            double.factorize(values).unwrap();
+            single.factorize(values).unwrap();
+            let exact = solve(&mut double, rhs);
+            let x = solve(&mut single, rhs);
+            let res = relative_residual(&system.assembly, values, &x, rhs);
+            assert!(res <= KRYLOV_TOLERANCE, "{kind:?} single: residual {res:e}");
+            let scale = exact.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            for (a, b) in x.iter().zip(&exact) {
+                assert!((a - b).abs() <= 1e-9 * scale, "{kind:?}: {a} against {b}");
+            }
+            assert_eq!(single.fallback(), None);
+        }
+        assert_eq!(single.precision(), FactorPrecision::Single);
+        assert_eq!(single.precision_escalations(), 0);
+        let half_factor = single.factor_nnz().unwrap() * 4;
+        assert!(
+            single.storage_bytes() + half_factor <= double.storage_bytes(),
+            "{kind:?}: {} against {} bytes",
+            single.storage_bytes(),
+            double.storage_bytes()
+        );
+    }
+}
+
+/// A matrix whose condition defeats a single-precision factor (a Laplacian with a shift of
+/// 1e-12 of its largest eigenvalue: f32 rounds the shift away) is factorized again in double
+/// precision, which the solver keeps: the solution has a double-precision backward error, and
+/// the next factorization starts in double.
+#[test]
+fn single_precision_escalates_to_double_where_it_cannot_precondition() {
+    let system = GridSystem::new(30, 24, 1, false);
+    let (values, rhs) = system.assemble(1.0, 1e-12, 0.0);
+    let mut solver = LinearSolver::new(
+        system.assembly.symbolic(),
+        Factorization::Cholesky,
+        Ordering::Default,
+    )
+    .unwrap();
+    solver.set_precision(FactorPrecision::Single);
+    solver.factorize(&values).unwrap();
+    let x = solve(&mut solver, &rhs);
+    assert_eq!(solver.precision_escalations(), 1);
+    assert_eq!(solver.precision(), FactorPrecision::Double);
+    let error = backward_error(&system.assembly, &values, &x, &rhs);
+    assert!(error < 1e-14, "backward error {error:e}");
+    solver.factorize(&values).unwrap();
+    assert_eq!(solve(&mut solver, &rhs), x, "double from now on");
+    assert_eq!(solver.precision_escalations(), 1);
 }
 
 /// An indefinite matrix given to Cholesky returns `Error::LinearSolver` naming the pivot, and a

@@ -13,6 +13,11 @@
 //!   ([`LinearSolver::fallback`]).
 //! - [`Factorization::Lu`]: nonsymmetric systems; faer's supernodal LU with partial pivoting,
 //!   columns always ordered by COLAMD.
+//!
+//! A Cholesky or LDLᵀ factor can be stored in single precision ([`FactorPrecision::Single`]):
+//! half the memory and about half the time of a numeric factorization, each solve then by GMRES
+//! in double precision preconditioned by it (mixed-precision refinement), and the factorization
+//! redone in double precision where that does not converge.
 
 use super::ordering::{
     approximate_minimum_degree, factor_entries, inverse_permutation, is_permutation,
@@ -31,6 +36,7 @@ use faer::sparse::linalg::cholesky::{
 };
 use faer::sparse::linalg::lu::{LuRef, NumericLu, SymbolicLu, factorize_symbolic_lu};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
+use faer::traits::{ComplexField, RealField};
 use faer::{Conj, MatMut, Par, Side};
 
 /// LDLᵀ pivots of magnitude at most this times max|aᵢⱼ| are regularized (then LU is used).
@@ -101,6 +107,39 @@ impl Ordering {
     }
 }
 
+/// The precision in which a Cholesky or LDLᵀ factor is stored (LU factors are always double).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FactorPrecision {
+    /// f64 factors; each solve is refined against the kept matrix.
+    Double,
+    /// f32 factors: half the memory of the factor and of the factorization's workspace, and
+    /// about half the time of a numeric factorization. A solve is GMRES in f64 preconditioned
+    /// by them ([`LinearSolver::solve_preconditioned`] against the factorized matrix itself, to
+    /// [`KRYLOV_TOLERANCE`]); the residuals and the matrix stay in f64, so the accuracy is that
+    /// of a double-precision solve as long as the factor's rounding (about the condition number
+    /// times 6e-8) leaves the preconditioned matrix near the identity. A single-precision
+    /// factorization that fails, regularizes a pivot or does not fit f32's range, and a solve
+    /// whose GMRES does not converge within [`KRYLOV_MAX_ITERATIONS`], are redone in double
+    /// precision, which the solver then keeps ([`LinearSolver::precision_escalations`]).
+    Single,
+}
+
+/// The numeric values of a Cholesky/LDLᵀ factor, in the solver's precision (empty until the
+/// first factorization).
+enum FactorValues {
+    Double(Vec<f64>),
+    Single(Vec<f32>),
+}
+
+impl FactorValues {
+    fn bytes(&self) -> usize {
+        match self {
+            FactorValues::Double(v) => v.len() * std::mem::size_of::<f64>(),
+            FactorValues::Single(v) => v.len() * std::mem::size_of::<f32>(),
+        }
+    }
+}
+
 /// The factorization-specific symbolic and numeric parts.
 enum Factors {
     Lu {
@@ -109,7 +148,7 @@ enum Factors {
     },
     Cholesky {
         symbolic: SymbolicCholesky<usize>,
-        l_values: Vec<f64>,
+        l_values: FactorValues,
     },
 }
 
@@ -135,6 +174,10 @@ pub struct LinearSolver {
     fallbacks: usize,
     /// LDLᵀ pivots of the last factorization whose sign is not the expected one.
     sign_mismatches: usize,
+    /// The precision of the Cholesky/LDLᵀ factor.
+    precision: FactorPrecision,
+    /// Single-precision factorizations or solves redone in double precision.
+    precision_escalations: usize,
 }
 
 impl std::fmt::Debug for LinearSolver {
@@ -146,6 +189,7 @@ impl std::fmt::Debug for LinearSolver {
             .field("factor_nnz", &self.factor_nnz())
             .field("factorized", &self.factorized)
             .field("fallback", &self.fallback)
+            .field("precision", &self.precision)
             .finish()
     }
 }
@@ -217,13 +261,10 @@ impl LinearSolver {
                 .map_err(|e| {
                     Error::LinearSolver(format!("Cholesky symbolic analysis failed: {e:?}"))
                 })?;
-                let len = symbolic.len_val();
-                let mut l_values = Vec::new();
-                l_values
-                    .try_reserve_exact(len)
-                    .map_err(|_| out_of_memory(len))?;
-                l_values.resize(len, 0.0);
-                Factors::Cholesky { symbolic, l_values }
+                Factors::Cholesky {
+                    symbolic,
+                    l_values: FactorValues::Double(Vec::new()),
+                }
             }
         };
         let nnz = pattern.row_idx().len();
@@ -239,7 +280,33 @@ impl LinearSolver {
             fallback: None,
             fallbacks: 0,
             sign_mismatches: 0,
+            precision: FactorPrecision::Double,
+            precision_escalations: 0,
         })
+    }
+
+    /// Stores the Cholesky/LDLᵀ factor in `precision` from the next factorization on (LU
+    /// factors stay double). The current factors are dropped.
+    pub fn set_precision(&mut self, precision: FactorPrecision) {
+        if matches!(self.factors, Factors::Lu { .. }) || precision == self.precision {
+            return;
+        }
+        self.precision = precision;
+        self.factorized = false;
+        self.workspace = None;
+        if let Factors::Cholesky { l_values, .. } = &mut self.factors {
+            *l_values = FactorValues::Double(Vec::new());
+        }
+    }
+
+    /// The precision of the factor ([`FactorPrecision::Double`] after an escalation).
+    pub fn precision(&self) -> FactorPrecision {
+        self.precision
+    }
+
+    /// Single-precision factorizations or solves redone in double precision so far.
+    pub fn precision_escalations(&self) -> usize {
+        self.precision_escalations
     }
 
     /// Numeric factorization of the matrix with the analysed pattern and `values` (CSC, one per
@@ -265,6 +332,24 @@ impl LinearSolver {
         }
         self.values.copy_from_slice(values);
         self.norm_inf = row_sum_norm(self.pattern.as_ref(), values);
+        self.factorize_kept()
+    }
+
+    /// [`Self::factorize`] of the kept values.
+    fn factorize_kept(&mut self) -> Result<()> {
+        self.factorized = false;
+        self.fallback = None;
+        self.sign_mismatches = 0;
+        if self.precision == FactorPrecision::Single {
+            match self.factorize_numeric() {
+                Ok(None) => {
+                    self.factorized = true;
+                    return Ok(());
+                }
+                // Failed or regularized in single precision: double precision decides.
+                Ok(Some(_)) | Err(_) => self.escalate(),
+            }
+        }
         let reason = match self.factorize_numeric() {
             Ok(None) => {
                 self.factorized = true;
@@ -277,6 +362,14 @@ impl LinearSolver {
         self.fall_back(reason)
     }
 
+    /// Switches a single-precision solver to double precision for good (see
+    /// [`FactorPrecision::Single`]); the factors are to be recomputed.
+    fn escalate(&mut self) {
+        self.set_precision(FactorPrecision::Double);
+        self.precision_escalations += 1;
+        self.sign_mismatches = 0;
+    }
+
     /// The numeric factorization of the kept values by the solver's own kind; for LDLᵀ, why it
     /// is not to be used (regularized pivots), if so.
     fn factorize_numeric(&mut self) -> Result<Option<String>> {
@@ -285,13 +378,36 @@ impl LinearSolver {
             Factors::Lu { symbolic, .. } => {
                 symbolic.factorize_numeric_lu_scratch::<f64>(par, Default::default())
             }
-            Factors::Cholesky { symbolic, .. } => match self.kind {
-                Factorization::Ldlt { .. } => {
+            Factors::Cholesky { symbolic, .. } => match (&self.kind, self.precision) {
+                (Factorization::Ldlt { .. }, FactorPrecision::Double) => {
                     symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default())
                 }
-                _ => symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
+                (Factorization::Ldlt { .. }, FactorPrecision::Single) => {
+                    symbolic.factorize_numeric_ldlt_scratch::<f32>(par, Default::default())
+                }
+                (_, FactorPrecision::Double) => {
+                    symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default())
+                }
+                (_, FactorPrecision::Single) => {
+                    symbolic.factorize_numeric_llt_scratch::<f32>(par, Default::default())
+                }
             },
         };
+        if let Factors::Cholesky { symbolic, l_values } = &mut self.factors {
+            let len = symbolic.len_val();
+            let fits = match (&*l_values, self.precision) {
+                (FactorValues::Double(v), FactorPrecision::Double) => v.len() == len,
+                (FactorValues::Single(v), FactorPrecision::Single) => v.len() == len,
+                _ => false,
+            };
+            if !fits {
+                *l_values = FactorValues::Double(Vec::new());
+                *l_values = match self.precision {
+                    FactorPrecision::Double => FactorValues::Double(zeroed(len)?),
+                    FactorPrecision::Single => FactorValues::Single(zeroed(len)?),
+                };
+            }
+        }
         if self.workspace.as_ref().is_none_or(|(r, _)| *r != req) {
             self.workspace = None;
             let buffer = MemBuffer::try_new(req)
@@ -309,26 +425,23 @@ impl LinearSolver {
                     LuError::Generic(e) => Error::LinearSolver(format!("LU factorization failed: {e:?}")),
                 })?;
             }
-            Factors::Cholesky { symbolic, l_values } => match &self.kind {
-                Factorization::Ldlt { signs } => {
-                    let amax = self.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-                    let delta = LDLT_REGULARIZATION_DELTA * amax;
-                    // No signs: pivots of either sign are kept, near-zero ones regularized.
-                    let regularization = LdltRegularization {
-                        dynamic_regularization_signs: None,
-                        dynamic_regularization_delta: delta,
-                        dynamic_regularization_epsilon: LDLT_REGULARIZATION_EPSILON * amax,
-                    };
-                    symbolic
-                        .factorize_numeric_ldlt(l_values, a, Side::Lower, regularization, par, stack, Default::default())
-                        .map_err(|e| {
-                            let LdltError::ZeroPivot { index } = e;
-                            Error::LinearSolver(format!(
-                                "LDLT: zero pivot at elimination step {index} (equation {}); the matrix is singular",
-                                original_equation(symbolic, index)
-                            ))
-                        })?;
-                    let pivots = Pivots::of(symbolic, l_values, delta, signs);
+            Factors::Cholesky { symbolic, l_values } => {
+                let amax = self.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                let signs = match &self.kind {
+                    Factorization::Ldlt { signs } => Some(signs.as_slice()),
+                    _ => None,
+                };
+                let pivots = match l_values {
+                    FactorValues::Double(l) => {
+                        cholesky_numeric(symbolic, l, a, signs, amax, par, stack)?
+                    }
+                    FactorValues::Single(l) => {
+                        let values = single_values(&self.values)?;
+                        let a = SparseColMatRef::new(self.pattern.as_ref(), &values);
+                        cholesky_numeric(symbolic, l, a, signs, amax, par, stack)?
+                    }
+                };
+                if let Some(pivots) = pivots {
                     self.sign_mismatches = pivots.sign_mismatches;
                     if pivots.regularized > 0 {
                         return Ok(Some(format!(
@@ -337,19 +450,7 @@ impl LinearSolver {
                         )));
                     }
                 }
-                _ => {
-                    symbolic
-                        .factorize_numeric_llt(l_values, a, Side::Lower, Default::default(), par, stack, Default::default())
-                        .map_err(|e| {
-                            let LltError::NonPositivePivot { index } = e;
-                            Error::LinearSolver(format!(
-                                "Cholesky: non-positive pivot at elimination step {index} (equation {}); \
-                                 the matrix is not positive definite",
-                                original_equation(symbolic, index)
-                            ))
-                        })?;
-                }
-            },
+            }
         }
         Ok(None)
     }
@@ -374,6 +475,9 @@ impl LinearSolver {
     /// Solves A x = rhs with the current factors, x overwriting `rhs`, followed by up to
     /// [`MAX_REFINEMENT_STEPS`] steps of iterative refinement. An LDLᵀ solve whose backward
     /// error stays above [`LDLT_BACKWARD_ERROR_LIMIT`] (or is not finite) is repeated with LU.
+    /// With single-precision factors, GMRES preconditioned by them to [`KRYLOV_TOLERANCE`]
+    /// instead, and the factorization redone in double precision where it does not converge
+    /// ([`FactorPrecision::Single`]).
     /// Fails if [`Self::factorize`] has not succeeded or the solution is not finite
     /// (numerically singular matrix).
     #[track_caller]
@@ -388,6 +492,17 @@ impl LinearSolver {
         if self.fallback.is_some() {
             let lu = self.lu.as_mut().expect("a fallback has its LU");
             return lu.solve_in_place(rhs);
+        }
+        if self.precision == FactorPrecision::Single {
+            if self
+                .solve_preconditioned(&self.values, rhs, KRYLOV_MAX_ITERATIONS)?
+                .is_some()
+            {
+                return Ok(());
+            }
+            self.escalate();
+            self.factorize_kept()?;
+            return self.solve_in_place(rhs);
         }
         if !matches!(self.kind, Factorization::Ldlt { .. }) {
             return self.refined_solve(rhs).map(|_| ());
@@ -621,7 +736,7 @@ impl LinearSolver {
         let u = std::mem::size_of::<usize>();
         let factor = match &self.factors {
             Factors::Lu { .. } => 0,
-            Factors::Cholesky { l_values, .. } => l_values.len() * f,
+            Factors::Cholesky { l_values, .. } => l_values.bytes(),
         };
         let workspace = self
             .workspace
@@ -655,34 +770,65 @@ impl LinearSolver {
         let par = self.par();
         match &self.factors {
             Factors::Lu { symbolic, .. } => symbolic.solve_in_place_scratch::<f64>(1, par),
-            Factors::Cholesky { symbolic, .. } => symbolic.solve_in_place_scratch::<f64>(1, par),
+            Factors::Cholesky { symbolic, .. } => match self.precision {
+                FactorPrecision::Double => symbolic.solve_in_place_scratch::<f64>(1, par),
+                FactorPrecision::Single => symbolic.solve_in_place_scratch::<f32>(1, par),
+            },
         }
     }
 
-    /// x ← A⁻¹x with the current factors.
+    /// x ← A⁻¹x with the current factors (in their precision).
     fn apply_inverse(&self, x: &mut [f64], stack: &mut MemStack) {
         let n = x.len();
         let par = self.par();
-        let x = MatMut::from_column_major_slice_mut(x, n, 1);
+        let ldlt = matches!(self.kind, Factorization::Ldlt { .. });
         match &self.factors {
             Factors::Lu { symbolic, numeric } => LuRef::new_unchecked(symbolic, numeric)
-                .solve_in_place_with_conj(Conj::No, x, par, stack),
-            Factors::Cholesky { symbolic, l_values } => match self.kind {
-                Factorization::Ldlt { .. } => LdltRef::new(symbolic, l_values)
-                    .solve_in_place_with_conj(Conj::No, x, par, stack),
-                _ => LltRef::new(symbolic, l_values).solve_in_place_with_conj(
+                .solve_in_place_with_conj(
                     Conj::No,
-                    x,
+                    MatMut::from_column_major_slice_mut(x, n, 1),
                     par,
                     stack,
                 ),
-            },
+            Factors::Cholesky {
+                symbolic,
+                l_values: FactorValues::Double(l),
+            } => cholesky_solve(symbolic, l, ldlt, x, par, stack),
+            Factors::Cholesky {
+                symbolic,
+                l_values: FactorValues::Single(l),
+            } => {
+                let mut single: Vec<f32> = x.iter().map(|&v| v as f32).collect();
+                cholesky_solve(symbolic, l, ldlt, &mut single, par, stack);
+                x.iter_mut()
+                    .zip(&single)
+                    .for_each(|(v, s)| *v = f64::from(*s));
+            }
         }
     }
 
     /// r ← r − A x with the kept matrix.
     fn subtract_product(&self, x: &[f64], r: &mut [f64]) {
         multiply_add(self.pattern.as_ref(), &self.values, -1.0, x, r);
+    }
+}
+
+/// x ← A⁻¹x with a Cholesky (`ldlt` false) or LDLᵀ factor in the precision of `x`.
+fn cholesky_solve<T>(
+    symbolic: &SymbolicCholesky<usize>,
+    l_values: &[T],
+    ldlt: bool,
+    x: &mut [T],
+    par: Par,
+    stack: &mut MemStack,
+) where
+    T: RealField + ComplexField<Real = T> + Copy,
+{
+    let n = x.len();
+    let x = MatMut::from_column_major_slice_mut(x, n, 1);
+    match ldlt {
+        true => LdltRef::new(symbolic, l_values).solve_in_place_with_conj(Conj::No, x, par, stack),
+        false => LltRef::new(symbolic, l_values).solve_in_place_with_conj(Conj::No, x, par, stack),
     }
 }
 
@@ -816,6 +962,99 @@ fn original_equation(symbolic: &SymbolicCholesky<usize>, index: usize) -> usize 
     symbolic.perm().map_or(k, |p| p.arrays().0[k])
 }
 
+/// A zero-filled vector of `len` values, or an out-of-memory error.
+fn zeroed<T: Copy + Default>(len: usize) -> Result<Vec<T>> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(len)
+        .map_err(|_| out_of_memory(len * std::mem::size_of::<T>()))?;
+    v.resize(len, T::default());
+    Ok(v)
+}
+
+/// The matrix values rounded to f32; an error if one exceeds its range.
+fn single_values(values: &[f64]) -> Result<Vec<f32>> {
+    let single: Vec<f32> = values.iter().map(|&v| v as f32).collect();
+    match single.iter().position(|v| !v.is_finite()) {
+        Some(i) => Err(Error::LinearSolver(format!(
+            "matrix entry {i} ({:e}) exceeds single precision",
+            values[i]
+        ))),
+        None => Ok(single),
+    }
+}
+
+/// The numeric Cholesky (`signs` `None`) or LDLᵀ factorization into `l_values`, in their
+/// precision; for LDLᵀ the pivots against the signs. Near-zero LDLᵀ pivots (below
+/// [`LDLT_REGULARIZATION_EPSILON`]·`amax`) are regularized, which the pivots report.
+fn cholesky_numeric<T>(
+    symbolic: &SymbolicCholesky<usize>,
+    l_values: &mut [T],
+    a: SparseColMatRef<'_, usize, T>,
+    signs: Option<&[i8]>,
+    amax: f64,
+    par: Par,
+    stack: &mut MemStack,
+) -> Result<Option<Pivots>>
+where
+    T: RealField + ComplexField<Real = T> + Copy + Into<f64> + FromF64,
+{
+    let Some(signs) = signs else {
+        symbolic
+            .factorize_numeric_llt(
+                l_values,
+                a,
+                Side::Lower,
+                Default::default(),
+                par,
+                stack,
+                Default::default(),
+            )
+            .map_err(|e| {
+                let LltError::NonPositivePivot { index } = e;
+                Error::LinearSolver(format!(
+                    "Cholesky: non-positive pivot at elimination step {index} (equation {}); \
+                     the matrix is not positive definite",
+                    original_equation(symbolic, index)
+                ))
+            })?;
+        return Ok(None);
+    };
+    let delta = T::from_f64(LDLT_REGULARIZATION_DELTA * amax);
+    // No signs: pivots of either sign are kept, near-zero ones regularized.
+    let regularization = LdltRegularization {
+        dynamic_regularization_signs: None,
+        dynamic_regularization_delta: delta,
+        dynamic_regularization_epsilon: T::from_f64(LDLT_REGULARIZATION_EPSILON * amax),
+    };
+    symbolic
+        .factorize_numeric_ldlt(l_values, a, Side::Lower, regularization, par, stack, Default::default())
+        .map_err(|e| {
+            let LdltError::ZeroPivot { index } = e;
+            Error::LinearSolver(format!(
+                "LDLT: zero pivot at elimination step {index} (equation {}); the matrix is singular",
+                original_equation(symbolic, index)
+            ))
+        })?;
+    Ok(Some(Pivots::of(symbolic, l_values, delta.into(), signs)))
+}
+
+/// The conversion of the regularization thresholds to the factor's precision.
+trait FromF64 {
+    fn from_f64(v: f64) -> Self;
+}
+
+impl FromF64 for f64 {
+    fn from_f64(v: f64) -> Self {
+        v
+    }
+}
+
+impl FromF64 for f32 {
+    fn from_f64(v: f64) -> Self {
+        v as f32
+    }
+}
+
 /// The pivots D of an LDLᵀ factor against the expected signs.
 struct Pivots {
     /// Pivots that faer's dynamic regularization replaced (set to exactly ±delta).
@@ -827,7 +1066,10 @@ struct Pivots {
 }
 
 impl Pivots {
-    fn of(symbolic: &SymbolicCholesky<usize>, l_values: &[f64], delta: f64, signs: &[i8]) -> Self {
+    fn of<T>(symbolic: &SymbolicCholesky<usize>, l_values: &[T], delta: f64, signs: &[i8]) -> Self
+    where
+        T: RealField + ComplexField<Real = T> + Copy + Into<f64>,
+    {
         let perm = symbolic.perm().map(|p| p.arrays().0);
         let mut out = Pivots {
             regularized: 0,
@@ -849,7 +1091,7 @@ impl Pivots {
         match symbolic.raw() {
             SymbolicCholeskyRaw::Simplicial(s) => {
                 for (k, &start) in s.col_ptr()[..s.ncols()].iter().enumerate() {
-                    check(k, l_values[start]);
+                    check(k, l_values[start].into());
                 }
             }
             SymbolicCholeskyRaw::Supernodal(s) => {
@@ -858,7 +1100,7 @@ impl Pivots {
                     let node = factor.supernode(i);
                     let d = node.val();
                     for j in 0..d.ncols() {
-                        check(node.start() + j, d[(j, j)]);
+                        check(node.start() + j, d[(j, j)].into());
                     }
                 }
             }

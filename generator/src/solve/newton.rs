@@ -3,7 +3,7 @@
 
 use serde::Serialize;
 
-use crate::solve::linear::{Factorization, LinearSolver, Ordering};
+use crate::solve::linear::{FactorPrecision, Factorization, LinearSolver, Ordering};
 use crate::{Error, Result};
 
 /// A discrete nonlinear problem `R(x; λ) = 0` driven by a load factor `λ ∈ [0, 1]`.
@@ -187,6 +187,8 @@ pub struct Newton {
     /// Newton increments solved by a numeric factorization, and by preconditioned GMRES.
     factorizations: usize,
     krylov_solves: usize,
+    /// The factor precision of large systems ([`LARGE_FACTOR_PRECISION`]).
+    large_factor_precision: FactorPrecision,
 }
 
 /// Newton increments of systems with at least this many unknowns are first
@@ -216,6 +218,11 @@ pub const KRYLOV_MIN_FILL: usize = 1_000;
 /// iteration 0.15–0.25 s, and the increments took 17–22 iterations; one that
 /// needs more has a preconditioner gone stale, which a new factorization renews.
 const KRYLOV_ITERATIONS: usize = 25;
+
+/// The precision of the factors of large systems (those that try GMRES first,
+/// [`KRYLOV_MIN_EQ`] and [`KRYLOV_MIN_FILL`]); the others are factorized in
+/// double precision.
+pub const LARGE_FACTOR_PRECISION: FactorPrecision = FactorPrecision::Single;
 
 /// How many analysed patterns a [`Newton`] keeps.
 const KEPT_SOLVERS: usize = 4;
@@ -250,7 +257,22 @@ impl Newton {
             kept_solver_bytes: KEPT_SOLVER_BYTES,
             factorizations: 0,
             krylov_solves: 0,
+            large_factor_precision: LARGE_FACTOR_PRECISION,
         }
+    }
+
+    /// Sets the factor precision of large systems ([`LARGE_FACTOR_PRECISION`] by default).
+    pub fn set_large_factor_precision(&mut self, precision: FactorPrecision) {
+        self.large_factor_precision = precision;
+    }
+
+    /// Whether `solver`'s system of `n` equations is large: its increments first try
+    /// preconditioned GMRES, and its factor has the large systems' precision.
+    fn is_large(&self, n: usize, solver: &LinearSolver) -> bool {
+        n >= self.krylov_min_eq
+            && solver
+                .factor_nnz()
+                .is_none_or(|l| l >= self.krylov_min_fill.saturating_mul(n))
     }
 
     /// Sets the size from which increments are first solved by preconditioned GMRES
@@ -347,7 +369,10 @@ impl Newton {
                         let ordered = clock.elapsed().as_secs_f64();
                         let ordering = p.ordering(&kind);
                         let analysed = clock.elapsed().as_secs_f64();
-                        let solver = LinearSolver::new(p.pattern(), kind, ordering)?;
+                        let mut solver = LinearSolver::new(p.pattern(), kind, ordering)?;
+                        if self.is_large(n, &solver) {
+                            solver.set_precision(self.large_factor_precision);
+                        }
                         if trace {
                             eprintln!(
                                 "  analysis: prepare {ordered:.2} s, ordering {:.2} s, symbolic {:.2} s",
@@ -355,7 +380,7 @@ impl Newton {
                                 clock.elapsed().as_secs_f64() - analysed
                             );
                             eprintln!(
-                                "  analysis: {}, {} equations, {} entries, factor {:?} entries ({} MB resident)",
+                                "  analysis: {}, {} equations, {} entries, factor {:?} entries in {:?} precision ({} MB resident)",
                                 match solver.kind() {
                                     Factorization::Lu => "LU",
                                     Factorization::Cholesky => "Cholesky",
@@ -364,6 +389,7 @@ impl Newton {
                                 solver.n_eq(),
                                 p.pattern().row_idx().len(),
                                 solver.factor_nnz(),
+                                solver.precision(),
                                 super::resources::process_memory("VmRSS:").unwrap_or(0) >> 20
                             );
                         }
@@ -425,15 +451,12 @@ impl Newton {
             let mut values = vec![0.0; nnz];
             p.assemble(Some(&mut values), &mut r)?;
             let tangent = clock.elapsed().as_secs_f64();
+            let large = self.is_large(n, &self.solvers[0].1);
             let solver = &mut self.solvers[0].1;
             r.iter_mut().for_each(|v| *v = -*v);
             // Large systems first try GMRES preconditioned by the factors of an earlier
             // tangent of this pattern; a numeric factorization follows where it does not
             // converge quickly.
-            let large = n >= self.krylov_min_eq
-                && solver
-                    .factor_nnz()
-                    .is_none_or(|l| l >= self.krylov_min_fill.saturating_mul(n));
             let krylov = match large && solver.is_factorized() {
                 true => solver
                     .solve_preconditioned(&values, &mut r, KRYLOV_ITERATIONS)
@@ -847,15 +870,38 @@ mod tests {
             initial_step: 0.5,
             ..LoadStepping::default()
         };
-        let solve_with = |krylov_min_eq: usize, krylov_min_fill: usize| {
+        let solve_in = |krylov_min_eq: usize, krylov_min_fill: usize, large: FactorPrecision| {
             let mut p = Chain::new(40);
             let mut newton = Newton::new(NewtonSettings::default(), stepping.clone());
             newton.set_krylov_min_eq(krylov_min_eq);
             newton.set_krylov_min_fill(krylov_min_fill);
+            newton.set_large_factor_precision(large);
             let history = newton.solve(&mut p).unwrap();
-            (p.x, history.total_iterations(), newton.linear_solves())
+            let precision = newton.solvers[0].1.precision();
+            (
+                p.x,
+                history.total_iterations(),
+                newton.linear_solves(),
+                precision,
+            )
+        };
+        let solve_with = |krylov_min_eq: usize, krylov_min_fill: usize| {
+            let (x, iterations, solves, _) =
+                solve_in(krylov_min_eq, krylov_min_fill, LARGE_FACTOR_PRECISION);
+            (x, iterations, solves)
         };
         let solve = |krylov_min_eq: usize| solve_with(krylov_min_eq, 0);
+        // Large systems' factors are single (the default), small ones' double; the
+        // solution is the same either way.
+        let (single, _, _, precision) = solve_in(0, 0, FactorPrecision::Single);
+        assert_eq!(precision, FactorPrecision::Single);
+        let (double, _, _, precision) = solve_in(0, 0, FactorPrecision::Double);
+        assert_eq!(precision, FactorPrecision::Double);
+        let (_, _, _, precision) = solve_in(usize::MAX, 0, FactorPrecision::Single);
+        assert_eq!(precision, FactorPrecision::Double, "small: double");
+        for (a, b) in single.iter().zip(&double) {
+            assert!((a - b).abs() <= 1e-9 * b.abs(), "{a} against {b}");
+        }
         let (direct, direct_iterations, (factorized, krylov)) = solve(usize::MAX);
         assert_eq!((factorized, krylov), (direct_iterations, 0));
         let (x, iterations, (factorized, krylov)) = solve(0);
