@@ -384,3 +384,45 @@ fn first_failing_element_in_element_order_is_reported() {
         assert!(matches!(result, Err(Error::Geometry(m)) if m == "element 777"));
     }
 }
+
+/// A column longer than the 16-bit scatter map holds (an equation coupled to 70 000 others,
+/// like a tie to a whole face) is scattered by 32-bit positions instead: every entry, the
+/// hub's diagonal sum and the prescribed dofs as in the definition.
+#[test]
+fn a_column_too_long_for_16_bit_offsets_is_scattered_by_position() {
+    let spokes = 70_000;
+    let hub = spokes;
+    // Element e couples spoke e, the hub and a prescribed dof.
+    let element_eqs: Vec<Vec<Option<usize>>> = (0..spokes)
+        .map(|e| vec![Some(e), Some(hub), None])
+        .collect();
+    let assembly = Assembly::new(spokes + 1, element_eqs);
+    let local = |e: usize, k: &mut [f64], r: &mut [f64]| {
+        for (i, v) in k.iter_mut().enumerate() {
+            *v = 1.0 + i as f64 + 1e-3 * e as f64;
+        }
+        r.iter_mut().for_each(|v| *v = 1.0);
+        Ok(())
+    };
+    let mut values = vec![0.0; assembly.nnz()];
+    let mut rhs = vec![0.0; assembly.n_eq()];
+    assembly.assemble(&mut values, &mut rhs, local).unwrap();
+    let pattern = assembly.symbolic();
+    let entry = |i: usize, j: usize| {
+        let rows = &pattern.row_idx()[pattern.col_range(j)];
+        let k = rows.binary_search(&i).expect("entry in the pattern");
+        values[pattern.col_range(j).start + k]
+    };
+    // Local block (3 × 3, column-major): k[b·3 + a] = 1 + (b·3 + a) + 1e-3 e.
+    for e in [0, 1, 12_345, spokes - 1] {
+        let shift = 1e-3 * e as f64;
+        assert_eq!(entry(e, e), 1.0 + shift);
+        assert_eq!(entry(hub, e), 2.0 + shift);
+        assert_eq!(entry(e, hub), 4.0 + shift);
+    }
+    let diagonal: f64 = (0..spokes).map(|e| 5.0 + 1e-3 * e as f64).sum();
+    assert!((entry(hub, hub) - diagonal).abs() <= 1e-9 * diagonal);
+    assert_eq!(rhs[hub], spokes as f64);
+    assert!(rhs[..spokes].iter().all(|&r| r == 1.0));
+    assert_eq!(pattern.col_range(hub).len(), spokes + 1);
+}

@@ -25,6 +25,21 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 const DROPPED: usize = usize::MAX;
 /// Marks a dropped entry in the 32-bit scatter map.
 const DROPPED_ENTRY: u32 = u32::MAX;
+/// Marks a dropped entry in the 16-bit scatter map.
+const DROPPED_OFFSET: u16 = u16::MAX;
+
+/// Where each element-block entry goes in the CSC values. Where every column
+/// holds fewer than [`DROPPED_OFFSET`] entries (3D p = 2 tangents: a few
+/// thousand at most), its offset within its column in 16 bits: the scatter
+/// maps are the largest bookkeeping of the refined 3D levels (4.8 GB of the
+/// 12.1 GB heap peak of the adaptive egg box's fourth level in 32 bits).
+#[derive(Debug, Clone)]
+enum ScatterMap {
+    /// `position − col_ptr[column]`, [`DROPPED_OFFSET`] if dropped.
+    Offsets(Vec<u16>),
+    /// The position, [`DROPPED_ENTRY`] if dropped.
+    Positions(Vec<u32>),
+}
 
 /// Element-to-equation map and CSC pattern built once; values filled per iteration.
 #[derive(Debug, Clone)]
@@ -37,8 +52,8 @@ pub struct Assembly {
     dof_eq: Vec<usize>,
     /// Element e's block entries (column-major) are `entry_pos[entry_ptr[e]..entry_ptr[e + 1]]`.
     entry_ptr: Vec<usize>,
-    /// Position of each element-block entry in the CSC values, [`DROPPED_ENTRY`] if dropped.
-    entry_pos: Vec<u32>,
+    /// Where each element-block entry goes in the CSC values.
+    entry_pos: ScatterMap,
     /// Elements of color c are `color_elements[color_ptr[c]..color_ptr[c + 1]]`, in element order.
     color_ptr: Vec<usize>,
     color_elements: Vec<usize>,
@@ -187,13 +202,34 @@ impl Assembly {
             r_e.resize(n, 0.0);
             local(e, k_e, r_e)?;
             let eqs = &self.dof_eq[self.dof_ptr[e]..self.dof_ptr[e + 1]];
-            let pos = &self.entry_pos[self.entry_ptr[e]..self.entry_ptr[e + 1]];
+            let entries = self.entry_ptr[e]..self.entry_ptr[e + 1];
             // SAFETY: elements of one color share no equation, hence no matrix entry and no rhs
             // entry; colors are processed one after the other.
             unsafe {
-                for (&p, &k) in pos.iter().zip(k_e.iter()) {
-                    if p != DROPPED_ENTRY {
-                        values.add(p as usize, k);
+                match &self.entry_pos {
+                    ScatterMap::Offsets(offsets) => {
+                        let col_ptr = self.pattern.col_ptr();
+                        let offsets = offsets[entries].chunks_exact(n.max(1));
+                        for ((&j, column), k) in
+                            eqs.iter().zip(offsets).zip(k_e.chunks_exact(n.max(1)))
+                        {
+                            if j == DROPPED {
+                                continue;
+                            }
+                            let start = col_ptr[j];
+                            for (&o, &k) in column.iter().zip(k) {
+                                if o != DROPPED_OFFSET {
+                                    values.add(start + o as usize, k);
+                                }
+                            }
+                        }
+                    }
+                    ScatterMap::Positions(positions) => {
+                        for (&p, &k) in positions[entries].iter().zip(k_e.iter()) {
+                            if p != DROPPED_ENTRY {
+                                values.add(p as usize, k);
+                            }
+                        }
                     }
                 }
                 for (&i, &r) in eqs.iter().zip(r_e.iter()) {
@@ -357,12 +393,13 @@ fn build_pattern(
     SymbolicSparseColMat::new_checked(n_eq, n_eq, col_ptr, None, row_idx)
 }
 
-/// Position in the CSC values of every entry (column-major) of every element block.
+/// Where every entry (column-major) of every element block goes in the CSC values: offsets
+/// within the columns where every column is short enough, positions otherwise ([`ScatterMap`]).
 fn build_scatter_map(
     pattern: &SymbolicSparseColMat<usize>,
     dof_ptr: &[usize],
     dof_eq: &[usize],
-) -> (Vec<usize>, Vec<u32>) {
+) -> (Vec<usize>, ScatterMap) {
     let n_elements = dof_ptr.len() - 1;
     let mut entry_ptr = Vec::with_capacity(n_elements + 1);
     entry_ptr.push(0);
@@ -370,7 +407,45 @@ fn build_scatter_map(
         let n = dof_ptr[e + 1] - dof_ptr[e];
         entry_ptr.push(entry_ptr[e] + n * n);
     }
-    let mut entry_pos = vec![DROPPED_ENTRY; entry_ptr[n_elements]];
+    let col_ptr = pattern.col_ptr();
+    let longest = (0..pattern.ncols())
+        .map(|j| col_ptr[j + 1] - col_ptr[j])
+        .max()
+        .unwrap_or(0);
+    let map = if longest < DROPPED_OFFSET as usize {
+        ScatterMap::Offsets(fill_scatter_map(
+            pattern,
+            dof_ptr,
+            dof_eq,
+            &entry_ptr,
+            DROPPED_OFFSET,
+            |_, k| k as u16,
+        ))
+    } else {
+        ScatterMap::Positions(fill_scatter_map(
+            pattern,
+            dof_ptr,
+            dof_eq,
+            &entry_ptr,
+            DROPPED_ENTRY,
+            |start, k| (start + k) as u32,
+        ))
+    };
+    (entry_ptr, map)
+}
+
+/// The scatter map's entries: `entry(col_ptr[j], k)` for the entry of row `i` in column `j`, `k`
+/// its index within the column, `dropped` where the row or the column is prescribed.
+fn fill_scatter_map<T: Copy + Send + Sync>(
+    pattern: &SymbolicSparseColMat<usize>,
+    dof_ptr: &[usize],
+    dof_eq: &[usize],
+    entry_ptr: &[usize],
+    dropped: T,
+    entry: impl Fn(usize, usize) -> T + Sync,
+) -> Vec<T> {
+    let n_elements = dof_ptr.len() - 1;
+    let mut entry_pos = vec![dropped; entry_ptr[n_elements]];
     // Split the map into per-element slices, then fill them in parallel.
     let mut blocks = Vec::with_capacity(n_elements);
     let mut rest = entry_pos.as_mut_slice();
@@ -396,11 +471,11 @@ fn build_scatter_map(
                 let k = column
                     .binary_search(&i)
                     .expect("element entry missing from the pattern");
-                block[b * n + a] = (col_ptr[j] + k) as u32;
+                block[b * n + a] = entry(col_ptr[j], k);
             }
         }
     });
-    (entry_ptr, entry_pos)
+    entry_pos
 }
 
 /// Greedy coloring in element order: an element takes the smallest color not used by an
