@@ -8,7 +8,9 @@ use std::path::Path;
 use tcgen::homogenize::adapt::{
     Marks, equation_prolongation, mark_contact_edges, refine_bodies, transfer_state,
 };
-use tcgen::homogenize::path::{PathSolver, PointResult, two_level_estimate};
+use tcgen::homogenize::path::{
+    PathSolver, PointResult, SELF_CONSISTENCY_ESTIMATE_SHARE, two_level_estimate,
+};
 use tcgen::sample::Case;
 use tcgen::sample::case::Method;
 use tcgen::sample::micro::UPPER;
@@ -373,5 +375,39 @@ fn the_3d_contact_zone_solves_on_a_refined_egg_box() {
         r.jump > 2.0 && r.jump < 4.0,
         "jump {} K (level 1 of the catalogue's sequence: 2.75 K)",
         r.jump
+    );
+}
+
+/// On the adaptive levels the self-consistency iterations stop once their
+/// change is below 1 % of the plain jump's estimate, whatever the case's
+/// tolerance (here 1e-12), and the reported estimate carries that bound:
+/// `E = E_plain |J / J_plain| + max(tolerance |J|, 0.01 E_plain)`, the
+/// levels being those of the plain run (they compare plain jumps).
+#[test]
+fn self_consistency_stops_at_a_share_of_the_estimate_and_reports_it() {
+    let adaptive = "target_error = 0.01\n[homogenization]\ntolerance = 1.0e-12";
+    let sc = solve(&case("[1.0e4]", adaptive));
+    let mut plain_case = case("[1.0e4]", adaptive);
+    plain_case.homogenization.method = Method::TwoPhase;
+    let plain = solve(&plain_case);
+    let (sc, plain) = (&sc[0], &plain[0]);
+    assert!(sc.converged && plain.converged, "{:?}", sc.status);
+    assert_eq!((sc.dofs, &sc.levels), (plain.dofs, &plain.levels));
+    let e_plain = plain.jump_error.expect("a plain estimate");
+    let bound = (1e-12 * sc.jump.abs()).max(SELF_CONSISTENCY_ESTIMATE_SHARE * e_plain);
+    let expected = e_plain * (sc.jump / plain.jump).abs() + bound;
+    let e = sc.jump_error.expect("an estimate");
+    assert!(
+        (e - expected).abs() <= 1e-12 * expected,
+        "estimate {e} against {expected}"
+    );
+    println!(
+        "jump {} (plain {}), estimate {e} (plain {e_plain}), {} self-consistency iterations",
+        sc.jump, plain.jump, sc.self_consistency_iterations
+    );
+    assert!(
+        sc.self_consistency_iterations <= 4,
+        "{} iterations",
+        sc.self_consistency_iterations
     );
 }

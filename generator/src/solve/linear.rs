@@ -15,9 +15,10 @@
 //!   columns always ordered by COLAMD.
 //!
 //! A Cholesky or LDLᵀ factor can be stored in single precision ([`FactorPrecision::Single`]):
-//! half the memory and about half the time of a numeric factorization, each solve then by GMRES
-//! in double precision preconditioned by it (mixed-precision refinement), and the factorization
-//! redone in double precision where that does not converge.
+//! half the memory and 0.5–0.8× the time of a numeric factorization and solve (the 3D egg
+//! box's fourth level), each solve then by GMRES in double precision preconditioned by it
+//! (mixed-precision refinement), and the factorization redone in double precision where that
+//! does not converge.
 
 use super::ordering::{
     approximate_minimum_degree, factor_entries, inverse_permutation, is_permutation,
@@ -113,11 +114,12 @@ pub enum FactorPrecision {
     /// f64 factors; each solve is refined against the kept matrix.
     Double,
     /// f32 factors: half the memory of the factor and of the factorization's workspace, and
-    /// about half the time of a numeric factorization. A solve is GMRES in f64 preconditioned
-    /// by them ([`LinearSolver::solve_preconditioned`] against the factorized matrix itself, to
-    /// [`KRYLOV_TOLERANCE`]); the residuals and the matrix stay in f64, so the accuracy is that
-    /// of a double-precision solve as long as the factor's rounding (about the condition number
-    /// times 6e-8) leaves the preconditioned matrix near the identity. A single-precision
+    /// 0.5–0.8× the time of a numeric factorization and solve (docs/3d.md). A solve is GMRES
+    /// in f64 preconditioned by them ([`LinearSolver::solve_preconditioned`] against the
+    /// factorized matrix itself, to [`KRYLOV_TOLERANCE`]); the residuals and the matrix stay in
+    /// f64, so the accuracy is that of a double-precision solve as long as the factor's
+    /// rounding (about the condition number times 6e-8) leaves the preconditioned matrix near
+    /// the identity. A single-precision
     /// factorization that fails, regularizes a pivot or does not fit f32's range, and a solve
     /// whose GMRES does not converge within [`KRYLOV_MAX_ITERATIONS`], are redone in double
     /// precision, which the solver then keeps ([`LinearSolver::precision_escalations`]).
