@@ -24,9 +24,17 @@
 //!   four-field system factorized by LU + COLAMD, the largest of the run):
 //!   51 MB, 147 MB, 776 MB and 3.02 GB at N = 864, 2 048, 6 912 and 16 384,
 //!   reproduced within 7 %; it gives 14 GB at 49 k unknowns, where issue 12
-//!   measured 13 GB on a synthetic system of the kind. No 3D micro-sample
-//!   exists yet: its contact rows and the symmetric solver path planned for
-//!   3D (docs/3d.md) will change the figures.
+//!   measured 13 GB on a synthetic system of the kind. The 3D micro-samples
+//!   factorize by LDLᵀ (large systems in single precision), so it is an upper
+//!   bound for them. Measured peaks (stop 35, 2-core machine): the egg box of
+//!   `tables/egg_box_on_flat.toml` at 100 kPa on fixed meshes of 8 × 8 × 4 to
+//!   20 × 20 × 4 elements, 4 544 to 23 168 unknowns, 266 MB to 1.33 GB, which
+//!   the model overestimates 1.7–3.6×; its adaptive levels 3 and 4 (39 636
+//!   and 102 460 unknowns, the previous level kept) 4.2 and 11.8 GB, 2.5× and
+//!   3.5× below the model. Both grow about linearly with the unknowns, but
+//!   the adaptive levels hold about twice the memory of a fixed mesh of as
+//!   many unknowns (the hierarchical elements couple more functions, and the
+//!   previous level is kept), so the bound is kept.
 //!
 //! Elsewhere the models are a rough guide (the check refuses what is clearly
 //! out of reach, it does not promise that what passes fits exactly).
