@@ -666,6 +666,19 @@ fn elimination_game(n: usize, edges: &[(usize, usize)], perm: &[usize]) -> usize
     entries
 }
 
+/// The CSC arrays (column pointers, row indices) of `columns`, each a column's sorted rows.
+fn csc<C: IntoIterator<Item = usize>>(
+    columns: impl IntoIterator<Item = C>,
+) -> (Vec<usize>, Vec<usize>) {
+    let mut col_ptr = vec![0usize];
+    let mut row_idx = Vec::new();
+    for c in columns {
+        row_idx.extend(c);
+        col_ptr.push(row_idx.len());
+    }
+    (col_ptr, row_idx)
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 64, failure_persistence: None, ..ProptestConfig::default() })]
     /// Nested dissection returns a permutation for any pattern and any coordinates,
@@ -680,14 +693,11 @@ proptest! {
         for (a, b) in edges {
             columns[b % n].push(a % n); // deliberately unsymmetric, with duplicates
         }
-        let mut col_ptr = vec![0usize];
-        let mut row_idx = Vec::new();
-        for mut c in columns {
+        let (col_ptr, row_idx) = csc(columns.into_iter().map(|mut c| {
             c.sort_unstable();
             c.dedup();
-            row_idx.extend(c);
-            col_ptr.push(row_idx.len());
-        }
+            c
+        }));
         let pattern = faer::sparse::SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
         let value = |(kind, x): (u8, f64)| match kind {
             0 => f64::NAN,
@@ -720,12 +730,7 @@ proptest! {
         for &(a, b) in &edges {
             columns[a.min(b)].insert(a.max(b));
         }
-        let mut col_ptr = vec![0usize];
-        let mut row_idx = Vec::new();
-        for c in columns {
-            row_idx.extend(c);
-            col_ptr.push(row_idx.len());
-        }
+        let (col_ptr, row_idx) = csc(columns);
         let pattern = faer::sparse::SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
         let mut perm: Vec<usize> = (0..n).collect();
         perm.sort_by_key(|&i| (keys[i], i));

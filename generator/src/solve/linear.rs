@@ -119,10 +119,10 @@ pub enum FactorPrecision {
     /// factorized matrix itself, to [`KRYLOV_TOLERANCE`]); the residuals and the matrix stay in
     /// f64, so the accuracy is that of a double-precision solve as long as the factor's
     /// rounding (about the condition number times 6e-8) leaves the preconditioned matrix near
-    /// the identity. A single-precision
-    /// factorization that fails, regularizes a pivot or does not fit f32's range, and a solve
-    /// whose GMRES does not converge within [`KRYLOV_MAX_ITERATIONS`], are redone in double
-    /// precision, which the solver then keeps ([`LinearSolver::precision_escalations`]).
+    /// the identity. A single-precision factorization that fails, regularizes a pivot or does
+    /// not fit f32's range, and a solve whose GMRES does not converge within
+    /// [`KRYLOV_MAX_ITERATIONS`], are redone in double precision, which the solver then keeps
+    /// ([`LinearSolver::precision_escalations`]).
     Single,
 }
 
@@ -403,6 +403,7 @@ impl LinearSolver {
                 _ => false,
             };
             if !fits {
+                // The old values are freed before the new ones are allocated.
                 *l_values = FactorValues::Double(Vec::new());
                 *l_values = match self.precision {
                     FactorPrecision::Double => FactorValues::Double(zeroed(len)?),
@@ -998,7 +999,7 @@ fn cholesky_numeric<T>(
     stack: &mut MemStack,
 ) -> Result<Option<Pivots>>
 where
-    T: RealField + ComplexField<Real = T> + Copy + Into<f64> + FromF64,
+    T: RealField + ComplexField<Real = T> + Copy + Into<f64>,
 {
     let Some(signs) = signs else {
         symbolic
@@ -1021,12 +1022,12 @@ where
             })?;
         return Ok(None);
     };
-    let delta = T::from_f64(LDLT_REGULARIZATION_DELTA * amax);
+    let delta = T::from_f64_impl(LDLT_REGULARIZATION_DELTA * amax);
     // No signs: pivots of either sign are kept, near-zero ones regularized.
     let regularization = LdltRegularization {
         dynamic_regularization_signs: None,
         dynamic_regularization_delta: delta,
-        dynamic_regularization_epsilon: T::from_f64(LDLT_REGULARIZATION_EPSILON * amax),
+        dynamic_regularization_epsilon: T::from_f64_impl(LDLT_REGULARIZATION_EPSILON * amax),
     };
     symbolic
         .factorize_numeric_ldlt(l_values, a, Side::Lower, regularization, par, stack, Default::default())
@@ -1038,23 +1039,6 @@ where
             ))
         })?;
     Ok(Some(Pivots::of(symbolic, l_values, delta.into(), signs)))
-}
-
-/// The conversion of the regularization thresholds to the factor's precision.
-trait FromF64 {
-    fn from_f64(v: f64) -> Self;
-}
-
-impl FromF64 for f64 {
-    fn from_f64(v: f64) -> Self {
-        v
-    }
-}
-
-impl FromF64 for f32 {
-    fn from_f64(v: f64) -> Self {
-        v as f32
-    }
 }
 
 /// The pivots D of an LDLᵀ factor against the expected signs.
