@@ -9,7 +9,7 @@ use tcgen::homogenize::adapt::{
     Marks, equation_prolongation, mark_contact_edges, refine_bodies, transfer_state,
 };
 use tcgen::homogenize::path::{
-    PathSolver, PointResult, SELF_CONSISTENCY_ESTIMATE_SHARE, two_level_estimate,
+    PathSolver, PointResult, SELF_CONSISTENCY_ESTIMATE_SHARE, level_error_ratio, two_level_estimate,
 };
 use tcgen::sample::Case;
 use tcgen::sample::case::Method;
@@ -234,13 +234,38 @@ fn the_equation_prolongation_carries_the_state_over() {
     }
 }
 
+/// The two-level estimate in 2D: `max(d_k, d_{k−1}/2, d_{k−2}/4)`.
 #[test]
 fn the_two_level_estimate_guards_a_lucky_difference() {
-    assert_eq!(two_level_estimate(0.1, &[]), 0.1);
-    assert_eq!(two_level_estimate(0.1, &[0.2]), 0.1);
-    assert_eq!(two_level_estimate(0.01, &[0.2]), 0.1);
-    assert_eq!(two_level_estimate(0.01, &[0.8, 0.02, 0.01]), 0.01);
-    assert_eq!(two_level_estimate(0.001, &[0.8, 0.4, 0.002]), 0.1);
+    let half = level_error_ratio(2);
+    assert_eq!(half, 0.5);
+    assert_eq!(two_level_estimate(0.1, &[], half), 0.1);
+    assert_eq!(two_level_estimate(0.1, &[0.2], half), 0.1);
+    assert_eq!(two_level_estimate(0.01, &[0.2], half), 0.1);
+    assert_eq!(two_level_estimate(0.01, &[0.8, 0.02, 0.01], half), 0.01);
+    assert_eq!(two_level_estimate(0.001, &[0.8, 0.4, 0.002], half), 0.1);
+}
+
+/// In 3D the errors fall by `ρ = 2^(−3/2)` per level: a geometric sequence
+/// of jumps `J_k = J + e ρ^k` gets its exact error back, and a lucky small
+/// difference is guarded by the older ones at `ρ` and `ρ²`.
+#[test]
+fn the_3d_estimate_assumes_order_three_halves() {
+    let rho = level_error_ratio(3);
+    assert!((rho - 2f64.powf(-1.5)).abs() < 1e-16);
+    let (exact, e0) = (3.0, 1.0);
+    let jumps: Vec<f64> = (0..5).map(|k| exact + e0 * rho.powi(k)).collect();
+    let d: Vec<f64> = jumps.windows(2).map(|w| (w[1] - w[0]).abs()).collect();
+    for k in 1..d.len() {
+        let e = two_level_estimate(d[k], &d[..k], rho);
+        let truth = jumps[k + 1] - exact;
+        assert!(
+            (e / truth - 1.0).abs() < 1e-12,
+            "level {k}: {e} against {truth}"
+        );
+    }
+    let lucky = two_level_estimate(1e-6, &[0.8, 0.4], rho);
+    assert_eq!(lucky, 0.4 * rho * rho / (1.0 - rho));
 }
 
 /// Inside a wide contact the interface is refined too

@@ -510,6 +510,7 @@ impl<'a> PathSolver<'a> {
         // surfaces' first touch.
         let heights = case_heights(case)?;
         let touch_shift = exact_first_touch(case, &heights) - self.geometry.g0;
+        let ratio = level_error_ratio(case.sample.dimension);
         let mut fine: Option<PathSolver<'a>> = None;
         for level in 1..=d.max_levels {
             let (src, src_bodies) = match fine.as_mut() {
@@ -589,7 +590,7 @@ impl<'a> PathSolver<'a> {
             let est: Vec<f64> = (0..diff.len())
                 .map(|i| {
                     let previous: Vec<f64> = diffs[start..].iter().map(|d| d[i]).collect();
-                    two_level_estimate(diff[i], &previous)
+                    two_level_estimate(diff[i], &previous, ratio)
                 })
                 .collect();
             // Differences within the fitted regime, this one included.
@@ -902,21 +903,45 @@ pub const MIN_ADAPTIVE_LEVELS: usize = 2;
 /// error with two, 1.8 with three).
 pub const FITTED_LEVELS: usize = 3;
 
+/// The ratio of successive errors of the jump per adaptive level that
+/// [`two_level_estimate`] assumes in dimension `dim`: the edge elements halve
+/// per level, and the jump converges at first order in their size in 2D
+/// (ratio 1/2) and at order 3/2 in 3D (ratio `2^(−3/2)`). In 3D a spot's edge
+/// is a curve that crosses many elements, and its position converges as the
+/// near-edge gap `~ t^(3/2)` allows: the egg box's contact fraction against
+/// the boundary elements on uniformly refined meshes at order about 1.5
+/// (docs/validation.md), and its adaptive jumps' errors against them at
+/// 0.02–0.5 `p*` fall by a median factor of 3.1 per level (docs/3d.md,
+/// "Adaptive levels against the boundary elements"). In 2D the single contact edge crosses
+/// element boundaries as a whole, and the sequences are too irregular for
+/// more than first order (an order-3/2 estimate gave 0.16 of the true
+/// error on the random profile at 100 Pa).
+pub fn level_error_ratio(dim: usize) -> f64 {
+    if dim >= 3 {
+        std::f64::consts::FRAC_1_SQRT_2 * 0.5
+    } else {
+        0.5
+    }
+}
+
 /// The two-level error estimate of a jump (K) after a refinement level:
-/// `max(d_k, d_{k−1}/2, d_{k−2}/4)` with `d_k = |J_k − J_{k−1}|` the change
-/// of the jump over the last level and `d_{k−1}`, `d_{k−2}` (`previous`,
-/// most recent last) the ones before. For first-order convergence in the
-/// edge element size (the contact edge, halved per level) the error of `J_k`
-/// equals `d_k = d_{k−1}/2 = d_{k−2}/4` asymptotically; the older terms keep
-/// a non-monotone sequence (the contact edge crossing element boundaries
-/// makes single differences small by chance) from stopping early.
-pub fn two_level_estimate(d_k: f64, previous: &[f64]) -> f64 {
+/// `max(d_k, ρ d_{k−1}, ρ² d_{k−2}) · ρ/(1 − ρ)` with `d_k = |J_k − J_{k−1}|`
+/// the change of the jump over the last level, `d_{k−1}`, `d_{k−2}`
+/// (`previous`, most recent last) the ones before, and `ρ` the ratio of
+/// successive errors per level ([`level_error_ratio`]). For errors that fall
+/// by `ρ` per level the error of `J_k` equals `d_k ρ/(1 − ρ)`, and
+/// `d_k = ρ d_{k−1} = ρ² d_{k−2}` asymptotically; the older terms keep a
+/// non-monotone sequence (the contact edge crossing element boundaries
+/// makes single differences small by chance) from stopping early. With
+/// `ρ = 1/2` (2D) this is `max(d_k, d_{k−1}/2, d_{k−2}/4)`.
+pub fn two_level_estimate(d_k: f64, previous: &[f64], ratio: f64) -> f64 {
     previous
         .iter()
         .rev()
         .take(2)
-        .zip([0.5, 0.25])
+        .zip([ratio, ratio * ratio])
         .fold(d_k, |m, (d, w)| m.max(w * d))
+        * (ratio / (1.0 - ratio))
 }
 
 /// Solves every pressure of a case in order (one path); a failed point is

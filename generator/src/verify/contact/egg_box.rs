@@ -181,6 +181,33 @@ impl EggBoxSample {
 
     /// The case at `pressures` (Pa).
     pub fn case(&self, pressures: &[f64]) -> Result<Case> {
+        self.case_with(pressures, "", "", "")
+    }
+
+    /// The case at one pressure (Pa), adaptive to `max_levels` levels
+    /// (target 1e-4, so that every level is solved) from this sample's mesh,
+    /// the egg box shifted by a quarter wavelength in x and y (its spot off
+    /// the seams; the exact solution is the same), the thermal phase on the
+    /// contact zone (`thermal_zone = true`) or on the nodal supports.
+    pub fn adaptive_case(&self, pressure: f64, max_levels: usize, zone: bool) -> Result<Case> {
+        let quarter = std::f64::consts::FRAC_PI_2;
+        self.case_with(
+            &[pressure],
+            &format!("phase = {quarter:?}\nphase_y = {quarter:?}\n"),
+            &format!("target_error = 1.0e-4\nmax_levels = {max_levels}\n"),
+            &format!("thermal_zone = {zone}\n"),
+        )
+    }
+
+    /// The case text with extra lines in `[surface.upper]`,
+    /// `[discretization]` and `[contact]`.
+    fn case_with(
+        &self,
+        pressures: &[f64],
+        surface: &str,
+        discretization: &str,
+        contact: &str,
+    ) -> Result<Case> {
         let m = benchmark_material();
         let (n, nz, l) = (self.elements, self.elements_height, self.interface_levels);
         let list: Vec<String> = pressures.iter().map(|p| format!("{p:e}")).collect();
@@ -188,11 +215,11 @@ impl EggBoxSample {
             "[sample]\ndimension = 3\nwidth = {WAVELENGTH:e}\nheight = {WAVELENGTH:e}\n\
              lateral = \"periodic\"\n\
              [surface.upper]\nkind = \"sinusoid\"\npattern = \"egg-box\"\nrms = {RMS:e}\n\
-             wavelength = {WAVELENGTH:e}\n[surface.lower]\nkind = \"flat\"\n\
+             wavelength = {WAVELENGTH:e}\n{surface}[surface.lower]\nkind = \"flat\"\n\
              [material]\nconductivity_slope = 0.0\nthermal_conductivity = {k:e}\n\
              [discretization]\ndegree = 2\nelements_upper = [{n}, {n}, {nz}]\n\
-             elements_lower = [{m1}, {m1}, {nz}]\ninterface_levels = {l}\n\
-             [contact]\nthermal = \"constraint\"\n\
+             elements_lower = [{m1}, {m1}, {nz}]\ninterface_levels = {l}\n{discretization}\
+             [contact]\nthermal = \"constraint\"\n{contact}\
              [load]\npressures = [{list}]\nflux = 1.0e6\ncontact_temperature = 293.15\n\
              [homogenization]\nmethod = \"two-phase\"\n",
             k = m.thermal_conductivity,
