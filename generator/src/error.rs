@@ -51,6 +51,24 @@ pub enum Error {
         /// The last Newton failure.
         last: String,
     },
+    /// An allocation larger than the memory left
+    /// ([`crate::solve::resources::memory_left`]), refused before it is made
+    /// rather than left to the system's out-of-memory killer.
+    #[error(
+        "out of memory: {what} needs {} more, {} left ({}); use fewer elements or \
+         refinement levels ([discretization] max_levels, max_dofs), or more memory",
+        crate::solve::resources::format_bytes(*.needed),
+        crate::solve::resources::format_bytes(*.left),
+        crate::solve::resources::MEMORY_LEFT_SOURCE
+    )]
+    OutOfMemory {
+        /// What was to be allocated.
+        what: String,
+        /// Bytes it needed.
+        needed: f64,
+        /// Bytes left.
+        left: f64,
+    },
     /// A configuration file could not be read or parsed.
     #[error("config: {0}")]
     Config(String),

@@ -348,6 +348,7 @@ impl LinearSolver {
                     self.factorized = true;
                     return Ok(());
                 }
+                Err(e @ Error::OutOfMemory { .. }) => return Err(e),
                 // Failed or regularized in single precision: double precision decides.
                 Ok(Some(_)) | Err(_) => self.escalate(),
             }
@@ -358,6 +359,7 @@ impl LinearSolver {
                 return Ok(());
             }
             Ok(Some(reason)) => reason,
+            Err(e @ Error::OutOfMemory { .. }) => return Err(e),
             Err(e) if matches!(self.kind, Factorization::Ldlt { .. }) => message(e),
             Err(e) => return Err(e),
         };
@@ -403,8 +405,14 @@ impl LinearSolver {
                 _ => false,
             };
             if !fits {
+                let bytes = len
+                    * match self.precision {
+                        FactorPrecision::Double => std::mem::size_of::<f64>(),
+                        FactorPrecision::Single => std::mem::size_of::<f32>(),
+                    };
                 // The old values are freed before the new ones are allocated.
                 *l_values = FactorValues::Double(Vec::new());
+                super::resources::ensure_memory("the factorization's values", bytes)?;
                 *l_values = match self.precision {
                     FactorPrecision::Double => FactorValues::Double(zeroed(len)?),
                     FactorPrecision::Single => FactorValues::Single(zeroed(len)?),
@@ -413,6 +421,10 @@ impl LinearSolver {
         }
         if self.workspace.as_ref().is_none_or(|(r, _)| *r != req) {
             self.workspace = None;
+            super::resources::ensure_memory(
+                "the factorization's workspace",
+                req.unaligned_bytes_required(),
+            )?;
             let buffer = MemBuffer::try_new(req)
                 .map_err(|_| out_of_memory(req.unaligned_bytes_required()))?;
             self.workspace = Some((req, buffer));
@@ -463,6 +475,14 @@ impl LinearSolver {
         self.factorized = false;
         let failed = |e| Error::LinearSolver(format!("{reason}; the fallback LU: {}", message(e)));
         if self.lu.is_none() {
+            // LU holds at least both triangles of the symmetric factor (faer
+            // allocates it itself, so its size is checked here).
+            if let Some(entries) = self.factor_nnz() {
+                super::resources::ensure_memory(
+                    "the fallback LU factorization (at least)",
+                    2 * entries * std::mem::size_of::<f64>(),
+                )?;
+            }
             let lu = LinearSolver::new(self.pattern.as_ref(), Factorization::Lu, Ordering::Default)
                 .map_err(failed)?;
             self.lu = Some(Box::new(lu));

@@ -345,6 +345,12 @@ impl Newton {
             iterations,
             reason,
         };
+        // A failed linear solve fails the iteration, but memory that is not
+        // there stays an error of its own (no cut-back helps).
+        let linear_failure = |iterations: usize, e: Error| match e {
+            Error::OutOfMemory { .. } => e,
+            e => fail(iterations, e.to_string()),
+        };
         let trace = std::env::var_os("TCGEN_TRACE").is_some();
         for it in 0..=self.settings.max_iterations {
             let clock = std::time::Instant::now();
@@ -460,16 +466,16 @@ impl Newton {
             let krylov = match large && solver.is_factorized() {
                 true => solver
                     .solve_preconditioned(&values, &mut r, KRYLOV_ITERATIONS)
-                    .map_err(|e| fail(it, e.to_string()))?,
+                    .map_err(|e| linear_failure(it, e))?,
                 false => None,
             };
             if krylov.is_none() {
                 solver
                     .factorize(&values)
-                    .map_err(|e| fail(it, e.to_string()))?;
+                    .map_err(|e| linear_failure(it, e))?;
                 solver
                     .solve_in_place(&mut r)
-                    .map_err(|e| fail(it, e.to_string()))?;
+                    .map_err(|e| linear_failure(it, e))?;
                 self.factorizations += 1;
             } else {
                 self.krylov_solves += 1;
@@ -555,6 +561,7 @@ impl Newton {
                         dl = (dl * self.stepping.growth).min(self.stepping.max_step * span);
                     }
                 }
+                Err(e @ Error::OutOfMemory { .. }) => return Err(e),
                 Err(e) => {
                     if std::env::var_os("TCGEN_TRACE").is_some() {
                         eprintln!("  cut back from λ={target:.4}: {e}");

@@ -142,6 +142,37 @@ pub fn memory_limit() -> Result<Option<f64>> {
         .map(|kb| kb * 1024.0))
 }
 
+/// Where [`memory_left`] takes its figure from, for messages.
+pub const MEMORY_LEFT_SOURCE: &str =
+    "TCGEN_MEMORY_LIMIT less the resident memory if set, else the machine's MemAvailable";
+
+/// Bytes this process may still allocate: `TCGEN_MEMORY_LIMIT` less its
+/// resident memory if set, else the machine's available memory
+/// (`MemAvailable`); `None` where neither is known.
+pub fn memory_left() -> Result<Option<f64>> {
+    let limit = memory_limit()?;
+    Ok(match std::env::var_os("TCGEN_MEMORY_LIMIT") {
+        Some(_) => limit.map(|l| (l - process_memory("VmRSS:").unwrap_or(0) as f64).max(0.0)),
+        None => limit,
+    })
+}
+
+/// Refuses an allocation of `bytes` for `what` that [`memory_left`] cannot
+/// hold, with [`Error::OutOfMemory`]: on Linux a large allocation succeeds
+/// and the process is killed when its pages are touched, so the sizes known
+/// in advance (a factorization's values and workspace, from the symbolic
+/// analysis) are checked before they are allocated.
+pub fn ensure_memory(what: &str, bytes: usize) -> Result<()> {
+    match memory_left()? {
+        Some(left) if bytes as f64 > left => Err(Error::OutOfMemory {
+            what: what.to_string(),
+            needed: bytes as f64,
+            left,
+        }),
+        _ => Ok(()),
+    }
+}
+
 fn parse_bytes(s: &str) -> Option<f64> {
     let s = s.trim();
     let (num, scale) = match s.char_indices().last()? {
@@ -164,12 +195,14 @@ fn parse_bytes(s: &str) -> Option<f64> {
         .map(|x| x * scale)
 }
 
-/// Human-readable bytes (MB, GB, TB; powers of 1000).
+/// Human-readable bytes (kB, MB, GB, TB; powers of 1000).
 pub fn format_bytes(b: f64) -> String {
     match b {
         b if b >= 1e12 => format!("{:.1} TB", b / 1e12),
         b if b >= 1e9 => format!("{:.1} GB", b / 1e9),
-        _ => format!("{:.0} MB", (b / 1e6).max(1.0)),
+        b if b >= 1e7 => format!("{:.0} MB", b / 1e6),
+        b if b >= 1e6 => format!("{:.1} MB", b / 1e6),
+        _ => format!("{:.0} kB", b / 1e3),
     }
 }
 
