@@ -317,6 +317,8 @@ mod tests {
             assert_eq!(parse_bytes(bad), None, "{bad}");
         }
         assert_eq!(format_bytes(1.9e9), "1.9 GB");
-        assert_eq!(format_bytes(2e5), "1 MB");
+        assert_eq!(format_bytes(4.2e7), "42 MB");
+        assert_eq!(format_bytes(2.5e6), "2.5 MB");
+        assert_eq!(format_bytes(2e5), "200 kB");
     }
 }
