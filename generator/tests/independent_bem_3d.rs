@@ -184,7 +184,7 @@ fn long_random_areal_against_tamaas() {
 }
 
 /// The adaptive levels against the exact surface's reference
-/// (`TCGEN_LONG_TESTS=1`; about 2 minutes and 5 GB on 2 cores): from
+/// (`TCGEN_LONG_TESTS=1`; about 3 minutes and 5 GB on 2 cores): from
 /// 8 × 8 × 4 / 7 × 7 × 4 elements, three levels (target 1e-4, so that each
 /// is solved) at 300 and 600 Pa, plain two-phase, the nodal supports. The
 /// third level's jump is within 1.5 % of the one from Barber's analogy of

@@ -1058,28 +1058,30 @@ fn solve_path_adaptive(
     }
     let (geometry, bodies, capture) = (&solver.geometry, &solver.bodies, solver.capture);
     type Coarse = (Vec<PointResult>, Vec<f64>, Option<Fields>);
-    Ok(coarse
-        .into_par_iter()
-        .map(|(k, p, item)| {
-            let refine = |(r, saved, fields): Coarse| -> Result<PointResult> {
-                let mut base = PathSolver::with_bodies(case, geometry.clone(), bodies.clone())?;
-                base.model.restore(&saved);
-                base.last_pressure = p;
-                base.capture = capture;
-                // The coarse fields stand unless a finer mesh is solved.
-                base.fields = fields;
-                let r = base.adapt(p, &fluxes, r, target)?.pop().expect("one flux");
-                write_point(series, case, k, r, base.take_fields())
-            };
-            match item
-                .map_err(|m| m.to_string())
-                .and_then(|c| refine(c).map_err(|e| e.to_string()))
-            {
-                Ok(r) => r,
-                Err(m) => PointResult::failed(case, p, m),
-            }
-        })
-        .collect())
+    let refine_point = |(k, p, item): (usize, f64, std::result::Result<Coarse, String>)| {
+        let refine = |(r, saved, fields): Coarse| -> Result<PointResult> {
+            let mut base = PathSolver::with_bodies(case, geometry.clone(), bodies.clone())?;
+            base.model.restore(&saved);
+            base.last_pressure = p;
+            base.capture = capture;
+            // The coarse fields stand unless a finer mesh is solved.
+            base.fields = fields;
+            let r = base.adapt(p, &fluxes, r, target)?.pop().expect("one flux");
+            write_point(series, case, k, r, base.take_fields())
+        };
+        match item.and_then(|c| refine(c).map_err(|e| e.to_string())) {
+            Ok(r) => r,
+            Err(m) => PointResult::failed(case, p, m),
+        }
+    };
+    // In 3D one pressure at a time: a refined level's factorization takes
+    // the machine's cores by itself, and its memory (7-22 GB on the fourth
+    // level of the egg box) would not fit twice.
+    Ok(if case.sample.dimension >= 3 {
+        coarse.into_iter().map(refine_point).collect()
+    } else {
+        coarse.into_par_iter().map(refine_point).collect()
+    })
 }
 
 /// The next input of the self-consistency iterations `ϑ ← F(ϑ)` (Sect. 3.3)
