@@ -912,10 +912,10 @@ pub const FITTED_LEVELS: usize = 3;
 /// the boundary elements on uniformly refined meshes at order about 1.5
 /// (docs/validation.md), and its adaptive jumps' errors against them at
 /// 0.02–0.5 `p*` fall by a median factor of 3.1 per level (docs/3d.md,
-/// "Adaptive levels against the boundary elements"). In 2D the single contact edge crosses
-/// element boundaries as a whole, and the sequences are too irregular for
-/// more than first order (an order-3/2 estimate gave 0.16 of the true
-/// error on the random profile at 100 Pa).
+/// "Adaptive levels against the boundary elements"). In 2D the single
+/// contact edge crosses element boundaries as a whole, and the sequences
+/// are too irregular for more than first order (an order-3/2 estimate gave
+/// 0.16 of the true error on the random profile at 100 Pa).
 pub fn level_error_ratio(dim: usize) -> f64 {
     if dim >= 3 {
         std::f64::consts::FRAC_1_SQRT_2 * 0.5
@@ -1019,7 +1019,8 @@ fn write_point(
 
 /// The adaptive path of [`solve_case`]: the case mesh along the whole path
 /// first (continuation, plain two-phase), then every pressure refined from
-/// its saved coarse state independently, in parallel (rayon). The results
+/// its saved coarse state independently: in parallel (rayon) in 2D, one
+/// at a time in 3D. The results
 /// equal those of [`PathSolver::solve_pressure`] at each pressure; the
 /// fields written to `series` are those of the final mesh of each.
 fn solve_path_adaptive(
