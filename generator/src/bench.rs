@@ -1403,10 +1403,7 @@ pub fn solver_3d_bench(degree: usize, elements: &[usize]) -> Result<Vec<Solver3d
                 unknowns: n_eq,
                 matrix_nnz: nnz,
                 factor_nnz: solver.factor_nnz(),
-                factor_value_bytes: match solver.precision() {
-                    Double => 8,
-                    Single => 4,
-                },
+                factor_value_bytes: solver.precision().value_bytes(),
                 assembly_s,
                 symbolic_s,
                 numeric_s,

@@ -126,6 +126,16 @@ pub enum FactorPrecision {
     Single,
 }
 
+impl FactorPrecision {
+    /// Bytes of one factor value.
+    pub fn value_bytes(self) -> usize {
+        match self {
+            FactorPrecision::Double => std::mem::size_of::<f64>(),
+            FactorPrecision::Single => std::mem::size_of::<f32>(),
+        }
+    }
+}
+
 /// The numeric values of a Cholesky/LDLᵀ factor, in the solver's precision (empty until the
 /// first factorization).
 enum FactorValues {
@@ -405,14 +415,12 @@ impl LinearSolver {
                 _ => false,
             };
             if !fits {
-                let bytes = len
-                    * match self.precision {
-                        FactorPrecision::Double => std::mem::size_of::<f64>(),
-                        FactorPrecision::Single => std::mem::size_of::<f32>(),
-                    };
                 // The old values are freed before the new ones are allocated.
                 *l_values = FactorValues::Double(Vec::new());
-                super::resources::ensure_memory("the factorization's values", bytes)?;
+                super::resources::ensure_memory(
+                    "the factorization's values",
+                    len * self.precision.value_bytes(),
+                )?;
                 *l_values = match self.precision {
                     FactorPrecision::Double => FactorValues::Double(zeroed(len)?),
                     FactorPrecision::Single => FactorValues::Single(zeroed(len)?),
