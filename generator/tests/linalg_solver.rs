@@ -397,6 +397,66 @@ fn gmres_preconditioned_by_an_earlier_factorization() {
     }
 }
 
+/// Factors of one pattern precondition GMRES on a nearby matrix of another pattern of the
+/// same equations (here without the couplings of the first column, as a contact pattern
+/// loses a node's when it leaves the active set): the true residual on the new pattern meets
+/// the tolerance, and a pattern of other dimensions is refused.
+#[test]
+fn gmres_on_another_pattern_of_the_same_equations() {
+    use faer::sparse::SymbolicSparseColMat;
+    for (system, kind, advection) in &three_kinds() {
+        let (kind, advection) = (kind.clone(), *advection);
+        let (v1, _) = system.assemble(1.0, 0.01, advection);
+        let (near, b) = system.assemble(1.03, 0.0103, 1.02 * advection);
+        let old = system.assembly.symbolic();
+        let n = old.ncols();
+        // Drop every off-diagonal entry of row and column 0.
+        let keep = |i: usize, j: usize| i == j || (i != 0 && j != 0);
+        let (mut col_ptr, mut row_idx, mut values) = (vec![0], Vec::new(), Vec::new());
+        for j in 0..n {
+            for k in old.col_range(j) {
+                let i = old.row_idx()[k];
+                if keep(i, j) {
+                    row_idx.push(i);
+                    values.push(near[k]);
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        assert!(
+            row_idx.len() < old.row_idx().len(),
+            "{kind:?}: a smaller pattern"
+        );
+        let new = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+        let mut solver = LinearSolver::new(old, kind.clone(), Ordering::Default).unwrap();
+        solver.factorize(&v1).unwrap();
+        let mut x = b.clone();
+        let iterations = solver
+            .solve_preconditioned_on(new.as_ref(), &values, &mut x, 40)
+            .unwrap()
+            .unwrap_or_else(|| panic!("{kind:?}: GMRES on the new pattern"));
+        let mut r = b.clone();
+        for (j, xj) in x.iter().enumerate() {
+            for k in new.col_range(j) {
+                r[new.row_idx()[k]] -= values[k] * xj;
+            }
+        }
+        let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let res = norm(&r) / norm(&b);
+        assert!(res <= KRYLOV_TOLERANCE, "{kind:?}: residual {res:e}");
+        assert!(
+            (1..=40).contains(&iterations),
+            "{kind:?}: {iterations} iterations"
+        );
+        let smaller = SymbolicSparseColMat::new_checked(1, 1, vec![0, 1], None, vec![0]);
+        let refused = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            let mut y = vec![1.0];
+            solver.solve_preconditioned_on(smaller.as_ref(), &[1.0], &mut y, 5)
+        }));
+        assert!(refused.is_err(), "{kind:?}: another number of equations");
+    }
+}
+
 /// ‖b − Ax‖∞ / (‖A‖∞‖x‖∞ + ‖b‖∞): the backward error of a solution.
 fn backward_error(assembly: &Assembly, values: &[f64], x: &[f64], b: &[f64]) -> f64 {
     let (r, row_sums) = residual(assembly, values, x, b);

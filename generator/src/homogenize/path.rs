@@ -517,6 +517,7 @@ impl<'a> PathSolver<'a> {
                 Some(f) => (&mut f.model, &f.bodies),
                 None => (&mut self.model, &self.bodies),
             };
+            let clock = std::time::Instant::now();
             // `src` is prepared at its solved state: by `fitted` above (the
             // case mesh) or below (the previous level).
             let marks = mark_contact_edges(src, slave)?;
@@ -541,6 +542,7 @@ impl<'a> PathSolver<'a> {
                 f.newton.release_solvers();
             }
             next.last_pressure = pressure;
+            let built = clock.elapsed().as_secs_f64();
             let solved = match next.solve_fluxes_on_mesh(pressure, fluxes, true, None) {
                 Ok(r) if r.iter().all(|r| r.converged) => r,
                 other => {
@@ -599,12 +601,13 @@ impl<'a> PathSolver<'a> {
             best = solved;
             if trace {
                 eprintln!(
-                    "adapt {pressure:e} Pa: level {level}, {} unknowns, levels {:?}, jump {:?}, estimate {:?}, contact {:.5}, fitted regime {regime:?}",
+                    "adapt {pressure:e} Pa: level {level}, {} unknowns, levels {:?}, jump {:?}, estimate {:?}, contact {:.5}, fitted regime {regime:?}; built in {built:.1} s, solved in {:.1} s",
                     best[0].dofs,
                     best[0].levels,
                     best.iter().map(|r| r.jump).collect::<Vec<_>>(),
                     est,
-                    best[0].interface.contact_fraction
+                    best[0].interface.contact_fraction,
+                    clock.elapsed().as_secs_f64() - built
                 );
             }
             met = level >= MIN_ADAPTIVE_LEVELS

@@ -141,6 +141,23 @@ pub struct DofMap {
 }
 
 impl DofMap {
+    /// Whether `other` numbers the same equations: the same components free, each with the
+    /// same equation, whatever the prescribed values.
+    pub fn same_equations(&self, other: &DofMap) -> bool {
+        self.n_fields == other.n_fields
+            && self.eq_field == other.eq_field
+            && self.dofs.len() == other.dofs.len()
+            && self
+                .dofs
+                .iter()
+                .zip(&other.dofs)
+                .all(|(a, b)| match (a, b) {
+                    (Dof::Free(i), Dof::Free(j)) => i == j,
+                    (Dof::Fixed(_), Dof::Fixed(_)) => true,
+                    _ => false,
+                })
+    }
+
     /// Number of nodes.
     pub fn n_nodes(&self) -> usize {
         self.n_nodes

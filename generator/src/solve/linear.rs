@@ -56,8 +56,15 @@ pub const REFINEMENT_TOLERANCE: f64 = 1e-14;
 /// refinement is repeated with LU.
 pub const LDLT_BACKWARD_ERROR_LIMIT: f64 = 1e-10;
 
-/// At most this many GMRES iterations of [`LinearSolver::solve_preconditioned`] (no restart).
-pub const KRYLOV_MAX_ITERATIONS: usize = 40;
+/// At most this many GMRES iterations of [`LinearSolver::solve_preconditioned`] (no restart):
+/// its basis then holds `2 · 150` vectors, 2.4 kB per equation, against the 4 kB per equation
+/// of a single-precision factor of the 1 000 entries per equation from which Newton tries
+/// GMRES first (`solve::newton::KRYLOV_MIN_FILL`), and below 7 % of the factors whose fill
+/// earns that budget (`solve::newton::KRYLOV_FILL_PER_ITERATION`).
+pub const KRYLOV_MAX_ITERATIONS: usize = 150;
+/// GMRES iterations of a single-precision solve ([`FactorPrecision::Single`]) before its
+/// factorization is redone in double precision: such a solve takes 2–4.
+pub const SINGLE_PRECISION_ITERATIONS: usize = 40;
 /// [`LinearSolver::solve_preconditioned`] converges at ‖b − A x‖₂ ≤ this × ‖b‖₂.
 pub const KRYLOV_TOLERANCE: f64 = 1e-11;
 
@@ -121,7 +128,7 @@ pub enum FactorPrecision {
     /// rounding (about the condition number times 6e-8) leaves the preconditioned matrix near
     /// the identity. A single-precision factorization that fails, regularizes a pivot or does
     /// not fit f32's range, and a solve whose GMRES does not converge within
-    /// [`KRYLOV_MAX_ITERATIONS`], are redone in double precision, which the solver then keeps
+    /// [`SINGLE_PRECISION_ITERATIONS`], are redone in double precision, which the solver then keeps
     /// ([`LinearSolver::precision_escalations`]).
     Single,
 }
@@ -526,7 +533,7 @@ impl LinearSolver {
         }
         if self.precision == FactorPrecision::Single {
             if self
-                .solve_preconditioned(&self.values, rhs, KRYLOV_MAX_ITERATIONS)?
+                .solve_preconditioned(&self.values, rhs, SINGLE_PRECISION_ITERATIONS)?
                 .is_some()
             {
                 return Ok(());
@@ -613,10 +620,29 @@ impl LinearSolver {
         rhs: &mut [f64],
         max_iterations: usize,
     ) -> Result<Option<usize>> {
+        self.solve_preconditioned_on(self.pattern.as_ref(), values, rhs, max_iterations)
+    }
+
+    /// [`Self::solve_preconditioned`] of a matrix on another `pattern` of the same equations
+    /// (the same unknowns in the same order): the tangent of a new contact pattern
+    /// preconditioned by the factors of the previous one (a self-consistent iteration's
+    /// mechanical phase after the active set changed). Panics unless `pattern` has
+    /// [`Self::n_eq`] rows and columns and `values` one entry per pattern entry.
+    pub fn solve_preconditioned_on(
+        &self,
+        pattern: SymbolicSparseColMatRef<'_, usize>,
+        values: &[f64],
+        rhs: &mut [f64],
+        max_iterations: usize,
+    ) -> Result<Option<usize>> {
         let n = self.n_eq();
+        assert!(
+            pattern.nrows() == n && pattern.ncols() == n,
+            "solve_preconditioned_on: the pattern must have the solver's {n} equations"
+        );
         assert_eq!(
             values.len(),
-            self.values.len(),
+            pattern.row_idx().len(),
             "one value per pattern entry"
         );
         assert_eq!(
@@ -640,7 +666,7 @@ impl LinearSolver {
             .map_err(|_| out_of_memory(factors.solve_scratch().unaligned_bytes_required()))?;
         let product = |x: &[f64], y: &mut [f64]| {
             y.fill(0.0);
-            multiply_add(self.pattern.as_ref(), values, 1.0, x, y);
+            multiply_add(pattern, values, 1.0, x, y);
         };
         let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
         // Arnoldi on A M⁻¹ from x0 = 0 (modified Gram–Schmidt), Givens rotations on the

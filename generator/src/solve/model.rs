@@ -450,6 +450,8 @@ impl ModelBuilder {
             n_bulk_eq: 0,
             mult_eq: (None, None),
             pattern_version: 0,
+            numbering_version: 0,
+            numberings: Vec::new(),
             dofs: DofMapBuilder::new(0, 1).build()?,
             assembly: Assembly::new(0, Vec::new()),
             assembly_coupling: coupling,
@@ -492,6 +494,12 @@ pub struct Model {
     n_bulk_eq: usize,
     mult_eq: (Option<usize>, Option<usize>),
     pattern_version: u64,
+    /// Identifies the current equations ([`NonlinearProblem::numbering_version`]): a value
+    /// no other model has had, kept while the equations stay those of the last renumbering
+    /// with the same coupling.
+    numbering_version: u64,
+    /// The equations of the last renumbering of each coupling, with their identifier.
+    numberings: Vec<Numbering>,
     /// The state at load factor 0 (prescribed values ramp from it).
     initial: Vec<f64>,
     /// Current state: `dim + 1` components per node (scaled).
@@ -524,6 +532,16 @@ pub struct Model {
 /// the random-surface robustness cases converge, 1e3 leaves a round-off floor
 /// above the thermal phase's absolute tolerance.
 pub const SEAM_PENALTY: f64 = 10.0;
+
+/// The equations of one renumbering ([`NonlinearProblem::numbering_version`]).
+struct Numbering {
+    coupling: Coupling,
+    dofs: DofMap,
+    mult_eq: (Option<usize>, Option<usize>),
+    eq_class: Vec<usize>,
+    /// 0 until assigned.
+    id: u64,
+}
 
 /// The penalty points of a seam between one pair of volume elements (or of
 /// a symmetry plane on one element): the functions (of the low element, then
@@ -708,6 +726,7 @@ impl Model {
             }
         }
         self.eq_class = classes;
+        self.numbering_version = self.identify_numbering();
         let mut coords = vec![[f64::NAN; 3]; n_eq];
         for body in &self.bodies {
             for (i, x) in body.patch.control_points().iter().enumerate() {
@@ -731,6 +750,46 @@ impl Model {
         self.eq_coords = coords;
         self.rebuild_assembly();
         Ok(())
+    }
+
+    /// The identifier of the current equations: that of the last renumbering of this
+    /// coupling if it numbered the same equations, else a new one.
+    fn identify_numbering(&mut self) -> u64 {
+        let i = match self
+            .numberings
+            .iter()
+            .position(|m| m.coupling == self.coupling)
+        {
+            Some(i) => i,
+            None => {
+                self.numberings.push(Numbering {
+                    coupling: self.coupling,
+                    dofs: self.dofs.clone(),
+                    mult_eq: self.mult_eq,
+                    eq_class: self.eq_class.clone(),
+                    id: 0,
+                });
+                self.numberings.len() - 1
+            }
+        };
+        let last = &mut self.numberings[i];
+        if last.id == 0
+            || !(last.dofs.same_equations(&self.dofs)
+                && last.mult_eq == self.mult_eq
+                && last.eq_class == self.eq_class)
+        {
+            // Unique over all models: a solver kept across models must not take another
+            // model's equations for these.
+            static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+            *last = Numbering {
+                coupling: self.coupling,
+                dofs: self.dofs.clone(),
+                mult_eq: self.mult_eq,
+                eq_class: self.eq_class.clone(),
+                id: NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
+            };
+        }
+        last.id
     }
 
     /// Reference position of a global node (scaled).
@@ -1240,6 +1299,10 @@ impl NonlinearProblem for Model {
 
     fn pattern_version(&self) -> u64 {
         self.pattern_version
+    }
+
+    fn numbering_version(&self) -> u64 {
+        self.numbering_version
     }
 
     /// Cholesky without multipliers and LDLᵀ with them where the tangent is

@@ -3,7 +3,9 @@
 
 use serde::Serialize;
 
-use crate::solve::linear::{FactorPrecision, Factorization, LinearSolver, Ordering};
+use crate::solve::linear::{
+    FactorPrecision, Factorization, KRYLOV_MAX_ITERATIONS, LinearSolver, Ordering,
+};
 use crate::{Error, Result};
 
 /// A discrete nonlinear problem `R(x; λ) = 0` driven by a load factor `λ ∈ [0, 1]`.
@@ -20,6 +22,12 @@ pub trait NonlinearProblem {
     /// Identifies the current pattern; the solver re-analyses when it changes.
     fn pattern_version(&self) -> u64 {
         0
+    }
+    /// Identifies the current equations (which unknown each is, in order): while it stays, the
+    /// factors of an earlier pattern may precondition the tangent of a new one. By default the
+    /// pattern version (no reuse across patterns).
+    fn numbering_version(&self) -> u64 {
+        self.pattern_version()
     }
     /// Which factorization suits the tangent (queried when the pattern changes).
     fn factorization(&self) -> Factorization {
@@ -169,9 +177,12 @@ pub struct Newton {
     pub stepping: LoadStepping,
     /// The problem's pattern version the front solver was checked against.
     version: Option<u64>,
-    /// Analysed solvers, most recently used first, each with the field classes
-    /// of its problem's equations (a bit per class: the phase it belongs to).
-    solvers: Vec<(u64, LinearSolver)>,
+    /// Analysed solvers, most recently used first.
+    solvers: Vec<KeptSolver>,
+    /// The front solver was analysed for an earlier pattern of the current equations: its
+    /// factors precondition GMRES until a factorization is needed, which analyses the current
+    /// pattern first.
+    stale_front: bool,
     /// Iterations whose symmetric factorization fell back to LU.
     linear_fallbacks: usize,
     /// Symbolic analyses performed.
@@ -194,7 +205,9 @@ pub struct Newton {
 /// Newton increments of systems with at least this many unknowns are first
 /// solved by GMRES preconditioned by the last factorization of the same pattern
 /// (a previous iteration's, or the same phase's in the previous self-consistent
-/// iteration). Measured on the 3D egg box (p = 2, 31 085 mechanical unknowns):
+/// iteration), or of an earlier pattern of the same equations (the mechanical
+/// phase after its contact pattern changed with the active set,
+/// [`NonlinearProblem::numbering_version`]). Measured on the 3D egg box (p = 2, 31 085 mechanical unknowns):
 /// a numeric factorization takes 16.5 s, a preconditioned GMRES iteration a
 /// fraction of a second. Smaller systems factorize every iteration, as their
 /// factorization is cheap: the demo tables' samples and the 2D adaptive levels
@@ -213,11 +226,31 @@ pub const KRYLOV_MIN_EQ: usize = 20_000;
 /// 28 s.
 pub const KRYLOV_MIN_FILL: usize = 1_000;
 
-/// GMRES iterations tried before a Newton increment is refactorized. On the
-/// 3D egg box's third level a factorization costs 16.5 s and a preconditioned
-/// iteration 0.15–0.25 s, and the increments took 17–22 iterations; one that
-/// needs more has a preconditioner gone stale, which a new factorization renews.
-const KRYLOV_ITERATIONS: usize = 25;
+/// GMRES iterations tried at least before a Newton increment is refactorized
+/// ([`krylov_budget`]).
+pub const KRYLOV_ITERATIONS: usize = 25;
+
+/// Factor entries per equation that buy one GMRES iteration before a Newton
+/// increment is refactorized ([`krylov_budget`]): a factorization costs about
+/// as many preconditioned iterations as the factor's entries per equation over
+/// 60. Measured on the adaptive 3D egg boxes (single-precision factors, 2
+/// cores): 16.5 s against 0.15–0.25 s at 5 300 entries per equation, 13 s
+/// against 0.10 s at 8 100, 21 s against 0.17 s at 7 900, 50–58 s against
+/// 0.30 s at 10 900. A failed attempt thus costs at most about one
+/// factorization, and the increments that follow a change of the active set
+/// need 59–69 iterations where the factorization is worth 135 (the small-strain
+/// egg box at 0.3 p*, level 3: three of its four factorizations saved).
+pub const KRYLOV_FILL_PER_ITERATION: usize = 60;
+
+/// The GMRES budget of an increment preconditioned by `solver`'s factors: its
+/// factor entries per equation over [`KRYLOV_FILL_PER_ITERATION`], within
+/// [`KRYLOV_ITERATIONS`] and [`KRYLOV_MAX_ITERATIONS`].
+pub fn krylov_budget(solver: &LinearSolver) -> usize {
+    let fill = solver
+        .factor_nnz()
+        .map_or(usize::MAX, |l| l / solver.n_eq().max(1));
+    (fill / KRYLOV_FILL_PER_ITERATION).clamp(KRYLOV_ITERATIONS, KRYLOV_MAX_ITERATIONS)
+}
 
 /// The precision of the factors of large systems (those that try GMRES first,
 /// [`KRYLOV_MIN_EQ`] and [`KRYLOV_MIN_FILL`]); the others are factorized in
@@ -237,6 +270,18 @@ const KEPT_SOLVERS: usize = 4;
 /// iteration), and so are small solvers (every 2D micro-sample's).
 pub const KEPT_SOLVER_BYTES: usize = 256 << 20;
 
+/// An analysed solver kept by [`Newton`].
+struct KeptSolver {
+    /// The field classes of its problem's equations (a bit per class: the phase it belongs to).
+    classes: u64,
+    /// The problem's [`NonlinearProblem::numbering_version`] when it was analysed.
+    numbering: u64,
+    solver: LinearSolver,
+    /// GMRES iterations of the last increment its current factors preconditioned (0 after a
+    /// factorization).
+    last_krylov: usize,
+}
+
 /// The field classes present in `eq_fields`, a bit per class.
 fn field_classes(eq_fields: &[usize]) -> u64 {
     eq_fields.iter().fold(0, |m, &f| m | 1u64 << f.min(63))
@@ -250,6 +295,7 @@ impl Newton {
             stepping,
             version: None,
             solvers: Vec::new(),
+            stale_front: false,
             linear_fallbacks: 0,
             analyses: 0,
             krylov_min_eq: KRYLOV_MIN_EQ,
@@ -305,6 +351,7 @@ impl Newton {
     pub fn release_solvers(&mut self) {
         self.solvers = Vec::new();
         self.version = None;
+        self.stale_front = false;
     }
 
     /// Symbolic analyses (ordering and factor structure) performed so far:
@@ -325,6 +372,95 @@ impl Newton {
             s[f] += v * v;
         }
         s.iter().map(|x| x.sqrt()).collect()
+    }
+
+    /// Puts in front the solver for the problem's current pattern: a kept one analysed for it;
+    /// else a factorized large one of the same phase and equations, whose factors then
+    /// precondition the new pattern's GMRES ([`Self::stale_front`]); else a new analysis.
+    fn select_solver<P: NonlinearProblem + ?Sized>(&mut self, p: &P, trace: bool) -> Result<()> {
+        let kind = p.factorization();
+        self.stale_front = false;
+        if let Some(i) = self
+            .solvers
+            .iter()
+            .position(|k| *k.solver.kind() == kind && k.solver.analyses(p.pattern()))
+        {
+            let kept = self.solvers.remove(i);
+            self.solvers.insert(0, kept);
+            return Ok(());
+        }
+        let (classes, numbering, n) = (
+            field_classes(p.eq_fields()),
+            p.numbering_version(),
+            p.n_eq(),
+        );
+        if let Some(i) = self.solvers.iter().position(|k| {
+            k.classes == classes
+                && k.numbering == numbering
+                && *k.solver.kind() == kind
+                && k.solver.n_eq() == n
+                && k.solver.is_factorized()
+                && self.is_large(n, &k.solver)
+        }) {
+            let kept = self.solvers.remove(i);
+            self.solvers.insert(0, kept);
+            self.stale_front = true;
+            if trace {
+                eprintln!(
+                    "  new pattern of the same equations: the previous factors precondition GMRES"
+                );
+            }
+            return Ok(());
+        }
+        self.analyse(p, trace)
+    }
+
+    /// Analyses the problem's current pattern into a new front solver, after dropping the
+    /// large kept solvers of its phase ([`KEPT_SOLVER_BYTES`]).
+    fn analyse<P: NonlinearProblem + ?Sized>(&mut self, p: &P, trace: bool) -> Result<()> {
+        let clock = std::time::Instant::now();
+        let (kind, n) = (p.factorization(), p.n_eq());
+        let classes = field_classes(p.eq_fields());
+        self.stale_front = false;
+        self.solvers
+            .retain(|k| k.classes != classes || k.solver.storage_bytes() < self.kept_solver_bytes);
+        let ordering = p.ordering(&kind);
+        let ordered = clock.elapsed().as_secs_f64();
+        let mut solver = LinearSolver::new(p.pattern(), kind, ordering)?;
+        if self.is_large(n, &solver) {
+            solver.set_precision(self.large_factor_precision);
+        }
+        if trace {
+            eprintln!(
+                "  analysis: ordering {ordered:.2} s, symbolic {:.2} s",
+                clock.elapsed().as_secs_f64() - ordered
+            );
+            eprintln!(
+                "  analysis: {}, {} equations, {} entries, factor {:?} entries in {:?} precision ({} MB resident)",
+                match solver.kind() {
+                    Factorization::Lu => "LU",
+                    Factorization::Cholesky => "Cholesky",
+                    Factorization::Ldlt { .. } => "LDLT",
+                },
+                solver.n_eq(),
+                p.pattern().row_idx().len(),
+                solver.factor_nnz(),
+                solver.precision(),
+                super::resources::process_memory("VmRSS:").unwrap_or(0) >> 20
+            );
+        }
+        self.analyses += 1;
+        self.solvers.insert(
+            0,
+            KeptSolver {
+                classes,
+                numbering: p.numbering_version(),
+                solver,
+                last_krylov: 0,
+            },
+        );
+        self.solvers.truncate(KEPT_SOLVERS);
+        Ok(())
     }
 
     /// Newton iterations at the current load factor. Returns the iteration records.
@@ -357,53 +493,7 @@ impl Newton {
             p.prepare()?;
             let version = p.pattern_version();
             if self.version != Some(version) {
-                let kind = p.factorization();
-                match self
-                    .solvers
-                    .iter()
-                    .position(|(_, l)| *l.kind() == kind && l.analyses(p.pattern()))
-                {
-                    Some(i) => {
-                        let kept = self.solvers.remove(i);
-                        self.solvers.insert(0, kept);
-                    }
-                    None => {
-                        let classes = field_classes(p.eq_fields());
-                        self.solvers.retain(|(c, l)| {
-                            *c != classes || l.storage_bytes() < self.kept_solver_bytes
-                        });
-                        let ordered = clock.elapsed().as_secs_f64();
-                        let ordering = p.ordering(&kind);
-                        let analysed = clock.elapsed().as_secs_f64();
-                        let mut solver = LinearSolver::new(p.pattern(), kind, ordering)?;
-                        if self.is_large(n, &solver) {
-                            solver.set_precision(self.large_factor_precision);
-                        }
-                        if trace {
-                            eprintln!(
-                                "  analysis: prepare {ordered:.2} s, ordering {:.2} s, symbolic {:.2} s",
-                                analysed - ordered,
-                                clock.elapsed().as_secs_f64() - analysed
-                            );
-                            eprintln!(
-                                "  analysis: {}, {} equations, {} entries, factor {:?} entries in {:?} precision ({} MB resident)",
-                                match solver.kind() {
-                                    Factorization::Lu => "LU",
-                                    Factorization::Cholesky => "Cholesky",
-                                    Factorization::Ldlt { .. } => "LDLT",
-                                },
-                                solver.n_eq(),
-                                p.pattern().row_idx().len(),
-                                solver.factor_nnz(),
-                                solver.precision(),
-                                super::resources::process_memory("VmRSS:").unwrap_or(0) >> 20
-                            );
-                        }
-                        self.analyses += 1;
-                        self.solvers.insert(0, (classes, solver));
-                        self.solvers.truncate(KEPT_SOLVERS);
-                    }
-                }
+                self.select_solver(p, trace)?;
                 self.version = Some(version);
             }
             let prepared = clock.elapsed().as_secs_f64();
@@ -457,18 +547,28 @@ impl Newton {
             let mut values = vec![0.0; nnz];
             p.assemble(Some(&mut values), &mut r)?;
             let tangent = clock.elapsed().as_secs_f64();
-            let large = self.is_large(n, &self.solvers[0].1);
-            let solver = &mut self.solvers[0].1;
+            let (front, last_krylov) = (&self.solvers[0].solver, self.solvers[0].last_krylov);
+            let large = self.is_large(n, front);
             r.iter_mut().for_each(|v| *v = -*v);
             // Large systems first try GMRES preconditioned by the factors of an earlier
-            // tangent of this pattern; a numeric factorization follows where it does not
-            // converge quickly.
-            let krylov = match large && solver.is_factorized() {
-                true => solver
-                    .solve_preconditioned(&values, &mut r, KRYLOV_ITERATIONS)
+            // tangent of this pattern, or of an earlier pattern of these equations; a numeric
+            // factorization (of this pattern, analysed first if it is new) follows where it
+            // does not converge within the budget.
+            // Factors that needed more than half the budget for the last increment have gone
+            // stale (the tangent moves away from theirs as the active set changes): the
+            // next increment would likely need more, so it is factorized at once.
+            let budget = krylov_budget(front);
+            let tried = large && front.is_factorized() && 2 * last_krylov <= budget;
+            let krylov = match tried {
+                true => front
+                    .solve_preconditioned_on(p.pattern(), &values, &mut r, budget)
                     .map_err(|e| linear_failure(it, e))?,
                 false => None,
             };
+            if krylov.is_none() && self.stale_front {
+                self.analyse(p, trace)?;
+            }
+            let solver = &mut self.solvers[0].solver;
             if krylov.is_none() {
                 solver
                     .factorize(&values)
@@ -487,6 +587,12 @@ impl Newton {
                     tangent - assembled,
                     match krylov {
                         Some(k) => format!("GMRES ({k} iterations)"),
+                        None if tried => format!("GMRES not within {budget}, factorize and solve"),
+                        None if large && last_krylov > 0 => {
+                            format!(
+                                "factors stale after {last_krylov} GMRES iterations, factorize and solve"
+                            )
+                        }
                         None => "factorize and solve".into(),
                     },
                     clock.elapsed().as_secs_f64() - tangent
@@ -500,6 +606,7 @@ impl Newton {
                 let record = history.last_mut().expect("pushed above");
                 record.linear_fallback = Some(reason.to_string());
             }
+            self.solvers[0].last_krylov = krylov.unwrap_or(0);
             if r.iter().any(|v| !v.is_finite()) {
                 return Err(fail(it, "non-finite increment".into()));
             }
@@ -765,6 +872,32 @@ mod tests {
         chain: Chain,
         patterns: [SymbolicSparseColMat<usize>; 2],
         version: usize,
+        /// Whether it says that its equations stay ([`NonlinearProblem::numbering_version`]).
+        same_equations: bool,
+    }
+
+    impl Flipping {
+        fn new(n: usize, same_equations: bool) -> Self {
+            let chain = Chain::new(n);
+            let reduced = {
+                let (mut col_ptr, mut row_idx) = (vec![0], Vec::new());
+                for j in 0..n {
+                    for &i in &chain.pattern.row_idx()[chain.pattern.col_range(j)] {
+                        if !matches!((i, j), (0, 1) | (1, 0)) {
+                            row_idx.push(i);
+                        }
+                    }
+                    col_ptr.push(row_idx.len());
+                }
+                SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx)
+            };
+            Flipping {
+                patterns: [chain.pattern.clone(), reduced],
+                chain,
+                version: 0,
+                same_equations,
+            }
+        }
     }
 
     impl NonlinearProblem for Flipping {
@@ -782,6 +915,12 @@ mod tests {
         }
         fn pattern_version(&self) -> u64 {
             (self.version % 2) as u64
+        }
+        fn numbering_version(&self) -> u64 {
+            match self.same_equations {
+                true => 7,
+                false => self.pattern_version(),
+            }
         }
         fn factorization(&self) -> Factorization {
             Factorization::Cholesky
@@ -832,24 +971,7 @@ mod tests {
     #[test]
     fn large_solvers_of_the_same_phase_are_dropped_before_a_new_analysis() {
         let solve = |kept_bytes: usize| {
-            let chain = Chain::new(30);
-            let reduced = {
-                let (mut col_ptr, mut row_idx) = (vec![0], Vec::new());
-                for j in 0..30 {
-                    for &i in &chain.pattern.row_idx()[chain.pattern.col_range(j)] {
-                        if !matches!((i, j), (0, 1) | (1, 0)) {
-                            row_idx.push(i);
-                        }
-                    }
-                    col_ptr.push(row_idx.len());
-                }
-                SymbolicSparseColMat::new_checked(30, 30, col_ptr, None, row_idx)
-            };
-            let mut p = Flipping {
-                patterns: [chain.pattern.clone(), reduced],
-                chain,
-                version: 0,
-            };
+            let mut p = Flipping::new(30, false);
             let mut newton = Newton::new(NewtonSettings::default(), LoadStepping::default());
             newton.set_kept_solver_bytes(kept_bytes);
             let history = newton.solve(&mut p).unwrap();
@@ -868,6 +990,52 @@ mod tests {
         assert_eq!(dropped, kept);
     }
 
+    /// While the equations stay, the factors of one pattern precondition the
+    /// GMRES increments of the next, and its analysis waits until a
+    /// factorization is needed; the solution is that of factorizing every
+    /// pattern anew (to the tolerance). Where the problem says nothing of its
+    /// equations, every new pattern is analysed and factorized.
+    #[test]
+    fn the_factors_of_a_previous_pattern_precondition_a_new_one() {
+        let solve = |same_equations: bool| {
+            let mut p = Flipping::new(40, same_equations);
+            let mut newton = Newton::new(NewtonSettings::default(), LoadStepping::default());
+            newton.set_krylov_min_eq(0);
+            newton.set_krylov_min_fill(0);
+            newton.set_kept_solver_bytes(0);
+            let history = newton.solve(&mut p).unwrap();
+            let iterations = history.total_iterations();
+            (
+                p.chain.x,
+                iterations,
+                newton.analyses(),
+                newton.linear_solves(),
+            )
+        };
+        let (fresh, iterations_fresh, analyses_fresh, (factorized_fresh, _)) = solve(false);
+        assert!(iterations_fresh >= 4, "{iterations_fresh} iterations");
+        assert_eq!(
+            analyses_fresh,
+            iterations_fresh + 1,
+            "a new pattern each iteration"
+        );
+        assert_eq!(factorized_fresh, iterations_fresh);
+        let (reused, iterations, analyses, (factorized, krylov)) = solve(true);
+        assert_eq!(iterations, iterations_fresh);
+        // The first pattern's factors, and those that follow an increment whose GMRES
+        // did not converge within the budget or took more than half of it (the first
+        // increments, large steps from x = 0).
+        assert_eq!(factorized + krylov, iterations);
+        assert!(
+            2 * factorized < iterations,
+            "{factorized} of {iterations} increments factorized"
+        );
+        assert_eq!(analyses, factorized, "analysed when factorized only");
+        for (a, b) in reused.iter().zip(&fresh) {
+            assert!((a - b).abs() <= 1e-9 * b.abs(), "{a} against {b}");
+        }
+    }
+
     /// Increments solved by GMRES preconditioned by the first iteration's
     /// factorization reach the solution of the factorized Newton iterations
     /// (to the tolerance), with one factorization per load step at most.
@@ -884,7 +1052,7 @@ mod tests {
             newton.set_krylov_min_fill(krylov_min_fill);
             newton.set_large_factor_precision(large);
             let history = newton.solve(&mut p).unwrap();
-            let precision = newton.solvers[0].1.precision();
+            let precision = newton.solvers[0].solver.precision();
             (
                 p.x,
                 history.total_iterations(),
