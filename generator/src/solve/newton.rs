@@ -207,11 +207,12 @@ pub struct Newton {
 /// (a previous iteration's, or the same phase's in the previous self-consistent
 /// iteration), or of an earlier pattern of the same equations (the mechanical
 /// phase after its contact pattern changed with the active set,
-/// [`NonlinearProblem::numbering_version`]). Measured on the 3D egg box (p = 2, 31 085 mechanical unknowns):
-/// a numeric factorization takes 16.5 s, a preconditioned GMRES iteration a
-/// fraction of a second. Smaller systems factorize every iteration, as their
-/// factorization is cheap: the demo tables' samples and the 2D adaptive levels
-/// measured so far (at most 11 943 unknowns, adaptive to 1e-4).
+/// [`NonlinearProblem::numbering_version`]). Measured on the 3D egg box (p = 2,
+/// 31 085 mechanical unknowns): a numeric factorization takes 16.5 s, a
+/// preconditioned GMRES iteration a fraction of a second. Smaller systems
+/// factorize every iteration, as their factorization is cheap: the demo
+/// tables' samples and the 2D adaptive levels measured so far (at most
+/// 11 943 unknowns, adaptive to 1e-4).
 pub const KRYLOV_MIN_EQ: usize = 20_000;
 
 /// ... and whose symmetric factors hold at least this many entries per
@@ -239,7 +240,8 @@ pub const KRYLOV_ITERATIONS: usize = 25;
 /// 0.30 s at 10 900. A failed attempt thus costs at most about one
 /// factorization, and the increments that follow a change of the active set
 /// need 59–69 iterations where the factorization is worth 135 (the small-strain
-/// egg box at 0.3 p*, level 3: three of its four factorizations saved).
+/// egg box at 0.3 p*, level 3: two of its four factorizations saved; level 4,
+/// 130–150 iterations where it is worth 150–180: two of five).
 pub const KRYLOV_FILL_PER_ITERATION: usize = 60;
 
 /// The GMRES budget of an increment preconditioned by `solver`'s factors: its
