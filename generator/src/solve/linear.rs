@@ -56,11 +56,11 @@ pub const REFINEMENT_TOLERANCE: f64 = 1e-14;
 /// refinement is repeated with LU.
 pub const LDLT_BACKWARD_ERROR_LIMIT: f64 = 1e-10;
 
-/// At most this many GMRES iterations of [`LinearSolver::solve_preconditioned`] (no restart):
-/// its basis then holds `2 · 150` vectors, 2.4 kB per equation, against the 4 kB per equation
-/// of a single-precision factor of the 1 000 entries per equation from which Newton tries
-/// GMRES first (`solve::newton::KRYLOV_MIN_FILL`), and below 7 % of the factors whose fill
-/// earns that budget (`solve::newton::KRYLOV_FILL_PER_ITERATION`).
+/// At most this many GMRES iterations of [`LinearSolver::solve_preconditioned`] (no restart).
+/// The basis holds two vectors of f64 per iteration: with Newton's budget
+/// (`solve::newton::krylov_budget`, the factor's entries per equation over 60, at least 25)
+/// that is about 7 % of a single-precision factor's bytes, and 10 % at most (25 iterations on
+/// the 1 000 entries per equation from which Newton tries GMRES first).
 pub const KRYLOV_MAX_ITERATIONS: usize = 150;
 /// GMRES iterations of a single-precision solve ([`FactorPrecision::Single`]) before its
 /// factorization is redone in double precision: such a solve takes 2–4.

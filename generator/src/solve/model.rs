@@ -450,7 +450,6 @@ impl ModelBuilder {
             n_bulk_eq: 0,
             mult_eq: (None, None),
             pattern_version: 0,
-            numbering_version: 0,
             numberings: Vec::new(),
             dofs: DofMapBuilder::new(0, 1).build()?,
             assembly: Assembly::new(0, Vec::new()),
@@ -494,11 +493,9 @@ pub struct Model {
     n_bulk_eq: usize,
     mult_eq: (Option<usize>, Option<usize>),
     pattern_version: u64,
-    /// Identifies the current equations ([`NonlinearProblem::numbering_version`]): a value
-    /// no other model has had, kept while the equations stay those of the last renumbering
-    /// with the same coupling.
-    numbering_version: u64,
-    /// The equations of the last renumbering of each coupling, with their identifier.
+    /// The equations of the last renumbering of each coupling, with their identifier
+    /// ([`NonlinearProblem::numbering_version`]): a value no other model has had, kept while
+    /// the renumberings of that coupling give the same equations.
     numberings: Vec<Numbering>,
     /// The state at load factor 0 (prescribed values ramp from it).
     initial: Vec<f64>,
@@ -539,7 +536,6 @@ struct Numbering {
     dofs: DofMap,
     mult_eq: (Option<usize>, Option<usize>),
     eq_class: Vec<usize>,
-    /// 0 until assigned.
     id: u64,
 }
 
@@ -726,7 +722,7 @@ impl Model {
             }
         }
         self.eq_class = classes;
-        self.numbering_version = self.identify_numbering();
+        self.identify_numbering();
         let mut coords = vec![[f64::NAN; 3]; n_eq];
         for body in &self.bodies {
             for (i, x) in body.patch.control_points().iter().enumerate() {
@@ -752,44 +748,33 @@ impl Model {
         Ok(())
     }
 
-    /// The identifier of the current equations: that of the last renumbering of this
-    /// coupling if it numbered the same equations, else a new one.
-    fn identify_numbering(&mut self) -> u64 {
-        let i = match self
+    /// Records the current equations as this coupling's last renumbering: with the
+    /// identifier of the one before if it numbered the same equations, else a new one.
+    fn identify_numbering(&mut self) {
+        let last = self
             .numberings
             .iter()
-            .position(|m| m.coupling == self.coupling)
-        {
-            Some(i) => i,
-            None => {
-                self.numberings.push(Numbering {
-                    coupling: self.coupling,
-                    dofs: self.dofs.clone(),
-                    mult_eq: self.mult_eq,
-                    eq_class: self.eq_class.clone(),
-                    id: 0,
-                });
-                self.numberings.len() - 1
+            .position(|m| m.coupling == self.coupling);
+        if let Some(i) = last {
+            let m = &self.numberings[i];
+            if m.dofs.same_equations(&self.dofs)
+                && m.mult_eq == self.mult_eq
+                && m.eq_class == self.eq_class
+            {
+                return;
             }
-        };
-        let last = &mut self.numberings[i];
-        if last.id == 0
-            || !(last.dofs.same_equations(&self.dofs)
-                && last.mult_eq == self.mult_eq
-                && last.eq_class == self.eq_class)
-        {
-            // Unique over all models: a solver kept across models must not take another
-            // model's equations for these.
-            static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
-            *last = Numbering {
-                coupling: self.coupling,
-                dofs: self.dofs.clone(),
-                mult_eq: self.mult_eq,
-                eq_class: self.eq_class.clone(),
-                id: NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
-            };
+            self.numberings.swap_remove(i);
         }
-        last.id
+        // Unique over all models: a solver kept across models must not take another
+        // model's equations for these.
+        static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+        self.numberings.push(Numbering {
+            coupling: self.coupling,
+            dofs: self.dofs.clone(),
+            mult_eq: self.mult_eq,
+            eq_class: self.eq_class.clone(),
+            id: NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
+        });
     }
 
     /// Reference position of a global node (scaled).
@@ -1302,7 +1287,10 @@ impl NonlinearProblem for Model {
     }
 
     fn numbering_version(&self) -> u64 {
-        self.numbering_version
+        self.numberings
+            .iter()
+            .find(|m| m.coupling == self.coupling)
+            .map_or(0, |m| m.id)
     }
 
     /// Cholesky without multipliers and LDLᵀ with them where the tangent is
@@ -1461,6 +1449,25 @@ mod tests {
             .solve(&mut model)
             .unwrap();
         model
+    }
+
+    /// A phase's equations keep their identifier when the phases alternate
+    /// (the frozen field's values change, not which unknowns there are), each
+    /// phase has its own, and no two models share one.
+    #[test]
+    fn the_equations_keep_their_identifier_while_the_phases_alternate() {
+        let mut model = sheared_block(true, true, 1.0e3);
+        let mechanical = model.numbering_version();
+        model.set_coupling(Coupling::Thermal).unwrap();
+        let thermal = model.numbering_version();
+        assert_ne!(thermal, mechanical);
+        model.state.iter_mut().for_each(|v| *v += 1e-3);
+        model.set_coupling(Coupling::Mechanical).unwrap();
+        assert_eq!(model.numbering_version(), mechanical);
+        model.set_coupling(Coupling::Thermal).unwrap();
+        assert_eq!(model.numbering_version(), thermal);
+        let other = sheared_block(true, true, 1.0e3);
+        assert_ne!(other.numbering_version(), mechanical);
     }
 
     #[test]
