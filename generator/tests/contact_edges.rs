@@ -137,3 +137,20 @@ fn the_3d_area_does_not_depend_on_the_augmentation() {
     assert!((soft - stiff).abs() < 1e-6, "{soft} vs {stiff}");
     assert!((soft - 1.0).abs() < 0.03, "radius error {}", soft - 1.0);
 }
+
+/// The 3D contact area's traces, edge fits and cell sums run in parallel
+/// (element by element, summed in element order): the Hertz radius is the
+/// same to the bit on one thread and on two.
+#[test]
+fn the_3d_area_is_the_same_on_any_number_of_threads() {
+    use tcgen::verify::contact::hertz3d::{Hertz3dSetup, hertz_3d};
+    let radius = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| hertz_3d(&Hertz3dSetup::new(6)).unwrap().radius)
+    };
+    let (one, two) = (radius(1), radius(2));
+    assert_eq!(one.to_bits(), two.to_bits(), "{one} vs {two}");
+}

@@ -456,26 +456,47 @@ fn fill_scatter_map<T: Copy + Send + Sync>(
     }
     let col_ptr = pattern.col_ptr();
     let row_idx = pattern.row_idx();
-    blocks.into_par_iter().enumerate().for_each(|(e, block)| {
-        let eqs = &dof_eq[dof_ptr[e]..dof_ptr[e + 1]];
-        let n = eqs.len();
-        for (b, &j) in eqs.iter().enumerate() {
-            if j == DROPPED {
-                continue;
-            }
-            let column = &row_idx[col_ptr[j]..col_ptr[j + 1]];
-            for (a, &i) in eqs.iter().enumerate() {
-                if i == DROPPED {
+    blocks
+        .into_par_iter()
+        .enumerate()
+        .for_each_init(Vec::new, |rows, (e, block)| {
+            let eqs = &dof_eq[dof_ptr[e]..dof_ptr[e + 1]];
+            let n = eqs.len();
+            // The element's rows in increasing equation: each column is then
+            // searched forwards from the previous row's entry.
+            rows.clear();
+            rows.extend((0..n).filter(|&a| eqs[a] != DROPPED));
+            rows.sort_unstable_by_key(|&a| eqs[a]);
+            for (b, &j) in eqs.iter().enumerate() {
+                if j == DROPPED {
                     continue;
                 }
-                let k = column
-                    .binary_search(&i)
-                    .expect("element entry missing from the pattern");
-                block[b * n + a] = entry(col_ptr[j], k);
+                let column = &row_idx[col_ptr[j]..col_ptr[j + 1]];
+                let mut from = 0;
+                for &a in rows.iter() {
+                    let k = from + gallop(&column[from..], eqs[a]);
+                    assert!(
+                        column.get(k) == Some(&eqs[a]),
+                        "element entry missing from the pattern"
+                    );
+                    block[b * n + a] = entry(col_ptr[j], k);
+                    from = k;
+                }
             }
-        }
-    });
+        });
     entry_pos
+}
+
+/// The index of the first entry `≥ x` of the sorted `s`, by galloping from
+/// its start (cost logarithmic in the index found, not in `s.len()`).
+fn gallop(s: &[usize], x: usize) -> usize {
+    let mut hi = 1;
+    while hi < s.len() && s[hi - 1] < x {
+        hi *= 2;
+    }
+    let lo = hi / 2;
+    let hi = hi.min(s.len());
+    lo + s[lo..hi].partition_point(|&r| r < x)
 }
 
 /// Greedy coloring in element order: an element takes the smallest color not used by an
@@ -553,5 +574,23 @@ impl SharedSlice {
         debug_assert!(i < self.len);
         // SAFETY: in bounds (positions come from the pattern); exclusive per the caller's contract.
         unsafe { *self.ptr.add(i) += v };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::gallop;
+
+    /// Galloping finds what a binary search over the whole slice finds, at
+    /// every position, for present and absent values and repeated entries.
+    #[test]
+    fn gallop_agrees_with_a_binary_search() {
+        let s: Vec<usize> = vec![0, 2, 2, 3, 7, 8, 8, 8, 15, 40, 41, 100];
+        for x in 0..=101 {
+            assert_eq!(gallop(&s, x), s.partition_point(|&r| r < x), "x = {x}");
+        }
+        assert_eq!(gallop(&[], 5), 0);
+        assert_eq!(gallop(&[5], 5), 0);
+        assert_eq!(gallop(&[5], 6), 1);
     }
 }

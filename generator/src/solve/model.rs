@@ -11,6 +11,7 @@
 use std::sync::Arc;
 
 use nalgebra::Vector3;
+use rayon::prelude::*;
 
 use crate::bulk::global::Assembly;
 use crate::bulk::local::{Coupling, ElementFields, element_residual_tangent};
@@ -203,6 +204,7 @@ impl ModelBuilder {
             })
             .collect();
         let quadrature = (0..scaled.n_elements())
+            .into_par_iter()
             .map(|e| scaled.element_quadrature(e, &nq))
             .collect();
         self.bodies.push(Body {

@@ -57,6 +57,8 @@
 
 use std::collections::BTreeSet;
 
+use rayon::prelude::*;
+
 use super::{ContactInterface, EDGE_MIN_RANGE};
 use crate::basis::{RationalBasis, TensorBasis};
 use crate::quadrature::GaussLegendre;
@@ -331,10 +333,29 @@ impl ContactLevel3d {
     /// on `n × n` sub-cells of every slave element, the cells the edge cuts
     /// by their part in contact ([`ContactLevel3d::visit_cells`]).
     pub(crate) fn area(&self, iface: &ContactInterface, state: &[f64], n: usize) -> f64 {
+        // The elements' cells in parallel, summed in the serial order.
+        let terms: Vec<Vec<f64>> = (0..iface.slave_face.elements().len())
+            .into_par_iter()
+            .map_init(
+                || {
+                    (
+                        Probe::new(iface, &self.ind, state),
+                        vec![0.0; (n + 1) * (n + 1)],
+                    )
+                },
+                |(probe, corners), e| {
+                    let mut terms = Vec::new();
+                    self.visit_element_cells(probe, corners, e, n, &mut |_, _, fraction, cell| {
+                        terms.push(fraction * cell)
+                    });
+                    terms
+                },
+            )
+            .collect();
         let mut area = 0.0;
-        self.visit_cells(iface, state, n, |_, _, fraction, cell| {
-            area += fraction * cell
-        });
+        for t in terms.iter().flatten() {
+            area += t;
+        }
         area
     }
 
@@ -357,42 +378,56 @@ impl ContactLevel3d {
     ) {
         let mut probe = Probe::new(iface, &self.ind, state);
         let mut corners = vec![0.0; (n + 1) * (n + 1)];
-        for (e, el) in iface.slave_face.elements().iter().enumerate() {
-            let h = [0, 1].map(|d| (el.upper[d] - el.lower[d]) / n as f64);
-            let near_edge = !self.near[e].is_empty();
-            if near_edge {
-                for (k, c) in corners.iter_mut().enumerate() {
-                    let xi = [
-                        el.lower[0] + h[0] * (k % (n + 1)) as f64,
-                        el.lower[1] + h[1] * (k / (n + 1)) as f64,
-                    ];
-                    *c = self.level(e, &probe.at(e, xi));
-                }
-            }
-            for k in 0..n * n {
-                let (i, j) = (k % n, k / n);
+        for e in 0..iface.slave_face.elements().len() {
+            self.visit_element_cells(&mut probe, &mut corners, e, n, &mut visit);
+        }
+    }
+
+    /// [`ContactLevel3d::visit_cells`] in slave element `e` (`corners`:
+    /// scratch of `(n + 1)²` values).
+    fn visit_element_cells(
+        &self,
+        probe: &mut Probe,
+        corners: &mut [f64],
+        e: usize,
+        n: usize,
+        visit: &mut impl FnMut(usize, [f64; 2], f64, f64),
+    ) {
+        let el = &probe.iface.slave_face.elements()[e];
+        let h = [0, 1].map(|d| (el.upper[d] - el.lower[d]) / n as f64);
+        let near_edge = !self.near[e].is_empty();
+        if near_edge {
+            for (k, c) in corners.iter_mut().enumerate() {
                 let xi = [
-                    el.lower[0] + h[0] * (i as f64 + 0.5),
-                    el.lower[1] + h[1] * (j as f64 + 0.5),
+                    el.lower[0] + h[0] * (k % (n + 1)) as f64,
+                    el.lower[1] + h[1] * (k / (n + 1)) as f64,
                 ];
-                let p = probe.at(e, xi);
-                let cell = p.det().abs() * h[0] * h[1];
-                let centre_in = self.level(e, &p) > 0.0;
-                let c = near_edge.then(|| {
-                    let at = |a: usize, b: usize| corners[(j + b) * (n + 1) + i + a];
-                    [at(0, 0), at(1, 0), at(0, 1), at(1, 1)]
-                });
-                match c {
-                    Some(c) if c.iter().any(|&v| v > 0.0) && c.iter().any(|&v| v <= 0.0) => {
-                        if let Some((fraction, at)) = bilinear_part_in_contact(c, CUT_SAMPLES) {
-                            let centroid =
-                                [0, 1].map(|d| el.lower[d] + h[d] * ([i, j][d] as f64 + at[d]));
-                            visit(e, centroid, fraction, cell);
-                        }
+                *c = self.level(e, &probe.at(e, xi));
+            }
+        }
+        for k in 0..n * n {
+            let (i, j) = (k % n, k / n);
+            let xi = [
+                el.lower[0] + h[0] * (i as f64 + 0.5),
+                el.lower[1] + h[1] * (j as f64 + 0.5),
+            ];
+            let p = probe.at(e, xi);
+            let cell = p.det().abs() * h[0] * h[1];
+            let centre_in = self.level(e, &p) > 0.0;
+            let c = near_edge.then(|| {
+                let at = |a: usize, b: usize| corners[(j + b) * (n + 1) + i + a];
+                [at(0, 0), at(1, 0), at(0, 1), at(1, 1)]
+            });
+            match c {
+                Some(c) if c.iter().any(|&v| v > 0.0) && c.iter().any(|&v| v <= 0.0) => {
+                    if let Some((fraction, at)) = bilinear_part_in_contact(c, CUT_SAMPLES) {
+                        let centroid =
+                            [0, 1].map(|d| el.lower[d] + h[d] * ([i, j][d] as f64 + at[d]));
+                        visit(e, centroid, fraction, cell);
                     }
-                    _ if centre_in => visit(e, xi, 1.0, cell),
-                    _ => {}
                 }
+                _ if centre_in => visit(e, xi, 1.0, cell),
+                _ => {}
             }
         }
     }
@@ -551,15 +586,27 @@ impl ContactInterface {
     pub(crate) fn contact_level_3d(&self, ind: Vec<f64>, state: &[f64]) -> ContactLevel3d {
         let elements = self.slave_face.elements();
         let n_el = elements.len();
-        let mut probe = Probe::new(self, &ind, state);
-        let mut segments = Vec::new();
+        // The crossing curve element by element (in parallel, one probe per
+        // worker), concatenated in element order.
+        let traced: Vec<Vec<Segment>> = (0..n_el)
+            .into_par_iter()
+            .map_init(
+                || Probe::new(self, &ind, state),
+                |probe, e| {
+                    let mut out = Vec::new();
+                    if crosses(&elements[e].functions, &ind) {
+                        probe.trace(e, CURVE_CELLS, &mut out);
+                    }
+                    out
+                },
+            )
+            .collect();
+        let mut segments = Vec::with_capacity(traced.iter().map(Vec::len).sum());
         let mut by_element = vec![Vec::new(); n_el];
-        for (e, el) in elements.iter().enumerate() {
-            if crosses(&el.functions, &ind) {
-                let start = segments.len();
-                probe.trace(e, CURVE_CELLS, &mut segments);
-                by_element[e] = (start..segments.len()).collect();
-            }
+        for (e, t) in traced.into_iter().enumerate() {
+            let start = segments.len();
+            segments.extend(t);
+            by_element[e] = (start..segments.len()).collect();
         }
         // Elements per function, then the elements with segments near each.
         let mut of_function: Vec<Vec<usize>> = vec![Vec::new(); ind.len()];
@@ -600,26 +647,32 @@ impl ContactInterface {
                 ind: &ind,
                 state,
             };
-            for e in 0..n_el {
-                if level.by_element[e].is_empty() {
-                    continue;
-                }
-                let Some(frame) = self.edge_frame(&mut probe, &level, e) else {
-                    continue;
-                };
-                if !self.wide_both_sides(&mut probe, &level, &frame) {
-                    continue;
-                }
-                let h = frame.size();
-                let radius = level.radius(e, h, frame.normal);
-                level.shift[e] = match radius {
-                    None => {
-                        let widths = self.range_widths(&mut probe, &level, &frame);
-                        self.fit_straight_edge(&mut probe, &level, e, &frame, widths, &ind)
-                    }
-                    _ => self.fit_shift(&level, e, radius, h, &supports),
-                };
-            }
+            // Each element's shift reads the crossing curve, never another
+            // element's shift: the fits are independent (in parallel).
+            let shifts: Vec<Option<f64>> = (0..n_el)
+                .into_par_iter()
+                .map_init(
+                    || Probe::new(self, &ind, state),
+                    |probe, e| {
+                        if level.by_element[e].is_empty() {
+                            return None;
+                        }
+                        let frame = self.edge_frame(probe, &level, e)?;
+                        if !self.wide_both_sides(probe, &level, &frame) {
+                            return None;
+                        }
+                        let h = frame.size();
+                        match level.radius(e, h, frame.normal) {
+                            None => {
+                                let widths = self.range_widths(probe, &level, &frame);
+                                self.fit_straight_edge(probe, &level, e, &frame, widths, &ind)
+                            }
+                            radius => self.fit_shift(&level, e, radius, h, &supports),
+                        }
+                    },
+                )
+                .collect();
+            level.shift = shifts;
         }
         level.ind = ind;
         level
