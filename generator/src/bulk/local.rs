@@ -180,12 +180,17 @@ fn residual_tangent<const D: usize>(
                     for kk in 0..D {
                         let c0 = n * (bb * nf + kk);
                         let col = &mut k[c0..c0 + rows];
-                        for l in 0..D {
-                            let c = w * dn[bb][l];
-                            let g = &gcols[(kk * D + l) * n..(kk * D + l) * n + rows];
-                            for (x, y) in col.iter_mut().zip(g) {
-                                *x += c * y;
+                        // The D terms of the column in one pass over it.
+                        let c: [f64; D] = std::array::from_fn(|l| w * dn[bb][l]);
+                        let g: [&[f64]; D] = std::array::from_fn(|l| {
+                            &gcols[(kk * D + l) * n..(kk * D + l) * n + rows]
+                        });
+                        for (r, x) in col.iter_mut().enumerate() {
+                            let mut s = 0.0;
+                            for l in 0..D {
+                                s += c[l] * g[l][r];
                             }
+                            *x += s;
                         }
                     }
                     if has_t {
