@@ -202,6 +202,8 @@ pub(crate) struct ContactLevel3d {
 struct Supports<'a> {
     of_function: &'a [Vec<usize>],
     of_element: &'a [Vec<usize>],
+    /// The slave elements in the support of each node (its copies' too).
+    of_node: &'a [Vec<usize>],
     ind: &'a [f64],
     state: &'a [f64],
 }
@@ -459,6 +461,11 @@ fn bilinear_part_in_contact(c: [f64; 4], m: usize) -> Option<(f64, [f64; 2])> {
     })
 }
 
+/// A point of a nodal edge fit's supports: its signed distance `φ` to the
+/// edge, its weight, and the nodes with a basis value there (their places
+/// in the fit's node list, and the values).
+type FitPoint = (f64, f64, Vec<(usize, f64)>);
+
 /// Evaluates the indicator on the slave face (scratch space held).
 struct Probe<'a> {
     iface: &'a ContactInterface,
@@ -641,9 +648,16 @@ impl ContactInterface {
             for (q, point) in self.points.iter().enumerate() {
                 of_element[point.element].push(q);
             }
+            // The elements in the support of each node (a node stands for
+            // its periodic copies, `copy_of`).
+            let mut of_node: Vec<Vec<usize>> = vec![Vec::new(); ind.len()];
+            for (f, elements) in of_function.iter().enumerate() {
+                of_node[self.copy_of[f]].extend(elements);
+            }
             let supports = Supports {
                 of_function: &of_function,
                 of_element: &of_element,
+                of_node: &of_node,
                 ind: &ind,
                 state,
             };
@@ -665,7 +679,7 @@ impl ContactInterface {
                         match level.radius(e, h, frame.normal) {
                             None => {
                                 let widths = self.range_widths(probe, &level, &frame);
-                                self.fit_straight_edge(probe, &level, e, &frame, widths, &ind)
+                                self.fit_straight_edge(probe, &level, e, &frame, widths, &supports)
                             }
                             radius => self.fit_shift(&level, e, radius, h, &supports),
                         }
@@ -889,8 +903,9 @@ impl ContactInterface {
         e: usize,
         frame: &EdgeFrame,
         widths: [f64; 2],
-        ind: &[f64],
+        supports: &Supports,
     ) -> Option<f64> {
+        let ind = supports.ind;
         let e_star = self.e_star?;
         let h = frame.size();
         let elements = self.slave_face.elements();
@@ -917,18 +932,13 @@ impl ContactInterface {
         }
         let index: Vec<usize> = nodes.iter().copied().collect();
         // The supports' points: (φ, weight, N of each node).
-        let support: BTreeSet<usize> = elements
+        let support: BTreeSet<usize> = nodes
             .iter()
-            .enumerate()
-            .filter(|(_, el)| {
-                el.functions
-                    .iter()
-                    .any(|c| nodes.contains(&self.copy_of[*c]))
-            })
-            .map(|(k, _)| k)
+            .flat_map(|&c| &supports.of_node[c])
+            .copied()
             .collect();
         let rule = GaussLegendre::new(FIT_POINTS);
-        let mut points: Vec<(f64, f64, Vec<f64>)> = Vec::new();
+        let mut points: Vec<FitPoint> = Vec::new();
         for &k in &support {
             let el = &elements[k];
             let (lo, hi) = (el.lower, el.upper);
@@ -946,13 +956,22 @@ impl ContactInterface {
                             n[m] += nc;
                         }
                     }
+                    // The nodes with a value here, in the order of `index`.
+                    let n: Vec<(usize, f64)> = n
+                        .into_iter()
+                        .enumerate()
+                        .filter(|&(_, v)| v != 0.0)
+                        .collect();
                     points.push((frame.distance(level, p.x), w, n));
                 }
             }
         }
-        let area: Vec<f64> = (0..index.len())
-            .map(|m| points.iter().map(|p| p.1 * p.2[m]).sum())
-            .collect();
+        let mut area = vec![0.0; index.len()];
+        for (_, w, n) in &points {
+            for &(m, nm) in n {
+                area[m] += w * nm;
+            }
+        }
         let data = self.edge_fit_data(&index, ind, e_star, h);
         let misfit = |delta: f64| -> Option<f64> {
             let mut model = vec![0.0; index.len()];
@@ -962,9 +981,9 @@ impl ContactInterface {
                 let d =
                     d.abs() * (1.0 - d.abs() / if inside { widths[0] } else { widths[1] }).max(0.0);
                 let f = if inside { d.sqrt() } else { d.powf(1.5) / h };
-                for (m, &c) in index.iter().enumerate() {
-                    if n[m] != 0.0 && (ind[c] > 0.0) == inside {
-                        model[m] += w * n[m] * f;
+                for &(m, nm) in n {
+                    if (ind[index[m]] > 0.0) == inside {
+                        model[m] += w * nm * f;
                     }
                 }
             }
