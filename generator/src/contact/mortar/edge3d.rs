@@ -931,7 +931,7 @@ impl ContactInterface {
             return None;
         }
         let index: Vec<usize> = nodes.iter().copied().collect();
-        // The supports' points: (φ, weight, N of each node).
+        // The supports' points ([`FitPoint`]).
         let support: BTreeSet<usize> = nodes
             .iter()
             .flat_map(|&c| &supports.of_node[c])
