@@ -4,7 +4,7 @@
 #              against the C ABI (lookup/tests/fortran_examples.rs);
 #   ccx      — the CalculiX solver (Debian package calculix-ccx), which runs
 #              the *GAP CONDUCTANCE export end to end
-#              (generator/tests/calculix_end_to_end.rs).
+#              (generator/tests/suite/calculix_end_to_end.rs).
 # Installed with apt-get when missing and the machine allows it (root or
 # passwordless sudo). Where it cannot be installed the script says so; the
 # Fortran test then reports that it did not compile the examples, and the

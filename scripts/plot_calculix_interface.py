@@ -7,9 +7,9 @@ along the stacking direction ``z``: two straight conduction profiles with the
 jump at the interface that the ``*GAP CONDUCTANCE`` block produces. The left
 panel shows the last step as a colour map of the two blocks.
 
-Made for the model of ``generator/tests/calculix_end_to_end.rs``, whose files
+Made for the model of ``generator/tests/suite/calculix_end_to_end.rs``, whose files
 are in ``target/tmp/calculix-e2e/`` after ``cargo test --release -p tcgen
---test calculix_end_to_end``. The README picture::
+--test suite calculix_end_to_end::``. The README picture::
 
     target/python-venv/bin/python scripts/plot_calculix_interface.py \\
         target/tmp/calculix-e2e/blocks_si.inp --png docs/calculix_interface.png \\

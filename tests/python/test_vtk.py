@@ -37,7 +37,7 @@ def run(tmp_path, table, settings):
 
 def solve(tmp_path):
     """`tcgen solve --vtk` of tables/sinusoid_on_flat.toml on the coarse mesh
-    of generator/tests/vtk_output.rs, at 1 and 10 kPa."""
+    of generator/tests/suite/vtk_output.rs, at 1 and 10 kPa."""
     out, text = run(
         tmp_path,
         "sinusoid_on_flat.toml",
@@ -82,7 +82,7 @@ def test_meshio_reads_every_file_and_the_stress_balances(tmp_path):
             row = ny - 1 if body == "upper" else 0
             syy = row_mean(m, m.point_data["cauchy_stress"][:, 4], row)
             qy = row_mean(m, m.point_data["heat_flux"][:, 1], row)
-            # Measured at most 6.7e-4 and 1.6e-5 (generator/tests/vtk_output.rs).
+            # Measured at most 6.7e-4 and 1.6e-5 (generator/tests/suite/vtk_output.rs).
             assert abs(syy + pressure) < 2e-3 * pressure, (body, syy)
             assert abs(qy + 1.0e6) < 5e-4 * 1.0e6, (body, qy)
 
@@ -100,7 +100,7 @@ def test_collection_lists_every_file(tmp_path):
 
 def test_meshio_reads_a_3d_case(tmp_path):
     """The coarse egg box on a flat of tables/egg_box_on_flat.toml (3 x 3 x 1
-    and 2 x 2 x 1 elements, as generator/tests/sweep_cli.rs) at 100 kPa."""
+    and 2 x 2 x 1 elements, as generator/tests/suite/sweep_cli.rs) at 100 kPa."""
     out, _ = run(
         tmp_path,
         "egg_box_on_flat.toml",

@@ -1,6 +1,6 @@
 //! Verification of the contact algorithms (issue 3; spec §10.2–10.5; paper
 //! Sects. 5.1, 5.2, 5.7), printed by `tcgen verify` and checked by
-//! `tests/contact_verification.rs`.
+//! `tests/suite/contact_verification.rs`.
 //!
 //! - [`patch`]: thermal patch tests on flat and curved (NURBS-exact)
 //!   conforming interfaces with non-matching meshes, and the mechanical patch

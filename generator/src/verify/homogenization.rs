@@ -873,7 +873,7 @@ fn hbp_validation() -> Result<Vec<Check>> {
 /// and the supports of the active nodes jump by whole elements when one
 /// node changes sides. The slave and master meshes do not match in y; with
 /// matching ones the cell is singular unless the periodic copies of the
-/// slave nodes share their multipliers (`tests/periodic_seams.rs`).
+/// slave nodes share their multipliers (`tests/suite/periodic_seams.rs`).
 ///
 /// With the contact zone (`thermal_zone = true`) each dimension fits its
 /// zone's edges on its own (2D `locate_edge`, 3D `edge3d`: the same nodal

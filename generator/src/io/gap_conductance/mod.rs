@@ -6,7 +6,7 @@
 //! Facts about CalculiX 2.20 the block relies on (manual page
 //! `*GAP CONDUCTANCE`; source `gapconductances.f`, `materialdata_sp.f`,
 //! `plcopy.f`, `plmix.f`, `springforc_f2f_th.f`; checked with runs of `ccx`,
-//! see `generator/tests/calculix_end_to_end.rs`):
+//! see `generator/tests/suite/calculix_end_to_end.rs`):
 //! - data lines are `conductance, contact pressure, temperature`, one set of
 //!   lines per temperature, each number read from a field of at most 20
 //!   characters;

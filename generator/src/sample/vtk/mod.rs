@@ -72,7 +72,7 @@
 //! of the lower, is `−p̄N` times the width (the cell area `W²` in 3D), and
 //! `q_y` (`q_z`) there `−|h̄|` times it, to the discretization error; the
 //! interface's heat flow is `−|h̄|` times it to the solver tolerance (tested
-//! on the written files in `generator/tests/vtk_output.rs`, with the
+//! on the written files in `generator/tests/suite/vtk_output.rs`, with the
 //! measured errors).
 
 mod fields;

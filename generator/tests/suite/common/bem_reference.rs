@@ -1,7 +1,7 @@
 //! The committed boundary-element references (`tests/data/*_tamaas.csv`,
 //! written by `scripts/tamaas_reference*.py`): `# key = value` header
-//! lines, a column line, then one row of numbers per pressure. Included by
-//! the `independent_bem*` tests with `#[path]`.
+//! lines, a column line, then one row of numbers per pressure. Used by the
+//! `independent_bem*` tests (`crate::bem_reference`).
 #![allow(dead_code)]
 
 /// A reference file's text.

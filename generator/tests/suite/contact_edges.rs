@@ -9,8 +9,7 @@
 use tcgen::analytical::westergaard::contact_half_width;
 use tcgen::homogenize::path::PointResult;
 
-#[path = "common/westergaard_case.rs"]
-mod westergaard;
+use crate::westergaard;
 
 /// The Westergaard case on `nx` slave elements (the master 7/8 of them),
 /// at the fractions `levels` of `p*`, with the augmentation factor `factor`.

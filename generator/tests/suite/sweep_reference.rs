@@ -3,7 +3,7 @@
 //! jump, conductance and mean gap within a relative 1e-6, the contact
 //! fraction within 1e-9 (iteration counts are not compared). A difference
 //! means the physics changed; if that is intended, regenerate the reference
-//! with `TCGEN_BLESS=1 cargo test --release -p tcgen --test sweep_reference`
+//! with `TCGEN_BLESS=1 cargo test --release -p tcgen --test suite sweep_reference::`
 //! and commit `tables/reference.h5`.
 
 use std::path::Path;
@@ -31,7 +31,7 @@ fn reference_table_is_reproduced() {
     }
     let old = read_table(&reference_path).unwrap();
     let regenerate = "if the change is intended, regenerate with \
-        TCGEN_BLESS=1 cargo test --release -p tcgen --test sweep_reference and commit tables/reference.h5";
+        TCGEN_BLESS=1 cargo test --release -p tcgen --test suite sweep_reference:: and commit tables/reference.h5";
     assert_eq!(
         old.info.config_sha256, new.info.config_sha256,
         "tables/reference.toml changed; {regenerate}"

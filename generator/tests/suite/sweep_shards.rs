@@ -3,8 +3,7 @@
 //! thread count blanked), whatever the thread count or the shard split
 //! (an empty shard included).
 
-#[path = "sweep_support.rs"]
-mod support;
+use crate::sweep_support as support;
 
 use support::*;
 use tcgen::io::{PointStatus, read_table};

@@ -18,8 +18,7 @@ use std::path::Path;
 
 use tcgen::sample::Case;
 
-#[path = "common/bem_reference.rs"]
-mod bem_reference;
+use crate::bem_reference;
 use bem_reference::Reference;
 
 const DATA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/");

@@ -1,5 +1,5 @@
-//! Shared helpers of the `sweep_*` integration tests (included with `#[path]`);
-//! as a test target of its own it only checks that the tiny configurations parse.
+//! Shared helpers of the `sweep_*` integration tests (`crate::sweep_support`);
+//! its own tests check that the tiny configurations parse.
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};

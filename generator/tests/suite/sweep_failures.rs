@@ -6,8 +6,7 @@
 //! upper, Gaussian lower) are the same whatever the thread count and shard
 //! split, and are those of `RandomSpec::generate` for `(seed, sample)`.
 
-#[path = "sweep_support.rs"]
-mod support;
+use crate::sweep_support as support;
 
 use std::process::Command;
 

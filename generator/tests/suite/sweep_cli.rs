@@ -4,8 +4,7 @@
 //! (the CSV of sample s holds the surfaces of `(seed, s)` and imports back as
 //! `kind = "profile"`).
 
-#[path = "sweep_support.rs"]
-mod support;
+use crate::sweep_support as support;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

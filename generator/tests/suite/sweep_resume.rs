@@ -2,8 +2,7 @@
 //! leaves its checkpoint and no table at the output path; `--resume` then
 //! gives the same file as an uninterrupted run.
 
-#[path = "sweep_support.rs"]
-mod support;
+use crate::sweep_support as support;
 
 use std::time::{Duration, Instant};
 

@@ -16,8 +16,7 @@ use tcgen::sample::case::Method;
 use tcgen::sample::micro::UPPER;
 use tcgen::solve::{Model, NonlinearProblem};
 
-#[path = "common/westergaard_case.rs"]
-mod westergaard;
+use crate::westergaard;
 
 fn case(pressures: &str, adaptive: &str) -> Case {
     case_on([16, 8], [13, 6], pressures, adaptive)

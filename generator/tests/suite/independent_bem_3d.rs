@@ -17,8 +17,7 @@ use tcgen::analytical::constriction::barber_conductance_from_stiffness;
 use tcgen::geometry::fit_height_map;
 use tcgen::sample::Case;
 
-#[path = "common/bem_reference.rs"]
-mod bem_reference;
+use crate::bem_reference;
 use bem_reference::Reference;
 
 const DATA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/");
