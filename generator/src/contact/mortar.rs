@@ -177,6 +177,9 @@ pub struct ContactInterface {
     slave_face: Arc<ThbPatch>,
     /// Master face nodes coupled to each slave node in the current pattern.
     pub band: Vec<BTreeSet<usize>>,
+    /// 3D: the master elements touching each master element
+    /// ([`touching_elements`]), found on the first widening of a band.
+    touching: Option<Vec<Vec<usize>>>,
     /// Slave nodes whose contact elements couple their kinematic unknowns in
     /// the sparse pattern: the nodes in contact and their neighbours (grown
     /// when a node outside enters contact, reset at a change of phase). The
@@ -545,6 +548,7 @@ impl ContactInterface {
             mechanical_points: None,
             slave_face,
             band: vec![BTreeSet::new(); n_s],
+            touching: None,
             coupled: vec![false; n_s],
             segmenter,
             breakpoints: Vec::new(),
@@ -1091,37 +1095,19 @@ impl ContactInterface {
         // touching elements 28 M; p + 1, as on 2D curves, more still); a
         // projection leaving the band widens it (a new pattern).
         let els = face.elements();
-        let kv = face.knots();
-        let domain: Vec<(f64, f64)> = kv.iter().map(|k| (k.first(), k.last())).collect();
         let periodic = self.period.is_some();
-        // Distance between the intervals [a0, a1] and [b0, b1] on direction
-        // d, across the seam for periodic masters.
-        let gap = |d: usize, a: (f64, f64), b: (f64, f64)| -> f64 {
-            let direct = (b.0 - a.1).max(a.0 - b.1).max(0.0);
-            if !periodic {
-                return direct;
-            }
-            let len = domain[d].1 - domain[d].0;
-            [len, -len]
-                .iter()
-                .map(|s| (b.0 + s - a.1).max(a.0 - b.1 - s).max(0.0))
-                .fold(direct, f64::min)
-        };
         let mut changed = false;
         for i in 0..self.n_slave() {
             let Some(seen) = self.outgrown(i) else {
                 continue;
             };
             changed |= self.coupled[i];
+            let touching = self
+                .touching
+                .get_or_insert_with(|| touching_elements(&face, periodic));
             for e in seen {
-                let el = &els[e];
-                for f in els {
-                    let near = (0..2).all(|d| {
-                        gap(d, (el.lower[d], el.upper[d]), (f.lower[d], f.upper[d])) <= 0.0
-                    });
-                    if near {
-                        self.band[i].extend(&f.functions);
-                    }
+                for &f in &touching[e] {
+                    self.band[i].extend(&els[f].functions);
                 }
             }
         }
@@ -2425,4 +2411,120 @@ fn minimize_on(f: impl Fn(f64) -> Option<f64>, lo: f64, hi: f64, samples: usize)
         }
     }
     Some(0.5 * (a + b))
+}
+
+/// For each element of a 3D master face, the elements whose parameter boxes
+/// touch or overlap its own in both directions (across the seams of a
+/// periodic master), itself included: what [`ContactInterface`]'s band
+/// takes in around a master element that a slave node sees.
+///
+/// One sweep over the elements sorted by their lower bound in the first
+/// direction: a box touching `e` there starts at most one element width
+/// (the widest) below `e`'s, so only that window is tested, once per image
+/// across the seam; the test itself is the exact one of every pair.
+pub fn touching_elements(face: &ThbPatch, periodic: bool) -> Vec<Vec<usize>> {
+    let els = face.elements();
+    let kv = face.knots();
+    let domain: Vec<(f64, f64)> = kv.iter().map(|k| (k.first(), k.last())).collect();
+    // Distance between the intervals [a0, a1] and [b0, b1] on direction
+    // d, across the seam for periodic masters.
+    let gap = |d: usize, a: (f64, f64), b: (f64, f64)| -> f64 {
+        let direct = (b.0 - a.1).max(a.0 - b.1).max(0.0);
+        if !periodic {
+            return direct;
+        }
+        let len = domain[d].1 - domain[d].0;
+        [len, -len]
+            .iter()
+            .map(|s| (b.0 + s - a.1).max(a.0 - b.1 - s).max(0.0))
+            .fold(direct, f64::min)
+    };
+    let touch = |a: usize, b: usize| {
+        let (el, f) = (&els[a], &els[b]);
+        (0..2).all(|d| gap(d, (el.lower[d], el.upper[d]), (f.lower[d], f.upper[d])) <= 0.0)
+    };
+    let mut order: Vec<usize> = (0..els.len()).collect();
+    order.sort_by(|&a, &b| els[a].lower[0].total_cmp(&els[b].lower[0]));
+    let lows: Vec<f64> = order.iter().map(|&e| els[e].lower[0]).collect();
+    let len = domain[0].1 - domain[0].0;
+    let widest = els
+        .iter()
+        .map(|e| e.upper[0] - e.lower[0])
+        .fold(0.0, f64::max);
+    // Round-off in the widths and shifts: a wider window only tests more.
+    let slack = widest + 1e-9 * len.abs().max(widest);
+    let shifts: &[f64] = if periodic { &[0.0, len, -len] } else { &[0.0] };
+    let mut candidates = Vec::new();
+    els.iter()
+        .enumerate()
+        .map(|(e, el)| {
+            candidates.clear();
+            for &s in shifts {
+                // `f` with f.lower[0] in [el.lower[0] − s − widest, el.upper[0] − s].
+                let from = lows.partition_point(|&x| x < el.lower[0] - s - slack);
+                let to = lows.partition_point(|&x| x <= el.upper[0] - s + slack);
+                candidates.extend_from_slice(&order[from..to.max(from)]);
+            }
+            candidates.sort_unstable();
+            candidates.dedup();
+            candidates
+                .iter()
+                .copied()
+                .filter(|&f| touch(e, f))
+                .collect()
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::shapes::cuboid;
+
+    /// The touching elements of a locally refined face (three levels, a
+    /// refined patch across the periodic seams) are those of the test of
+    /// every pair, with and without periodicity.
+    #[test]
+    fn touching_elements_agree_with_every_pair() {
+        let mut nurbs = cuboid([0.0; 3], [1.0, 1.0, 0.5]);
+        for d in 0..3 {
+            nurbs = nurbs.elevate_degree(d, 1).refine_uniform(d, [7, 6, 2][d]);
+        }
+        let mut mesh = ThbPatch::from_nurbs(&nurbs).mesh().clone();
+        mesh.refine_where(|_, lo, hi| hi[0] > 0.7 && lo[1] < 0.4 && hi[2] > 0.4);
+        mesh.refine_where(|_, lo, hi| (hi[0] > 0.85 || lo[0] < 0.1) && hi[2] > 0.45);
+        let volume = ThbPatch::from_nurbs(&nurbs).with_mesh(mesh);
+        let (face, _) = volume.face(2, Side::High);
+        let els = face.elements();
+        assert!(els.len() > 42, "refined: {} elements", els.len());
+        for periodic in [false, true] {
+            let len = 1.0;
+            let gap = |a: (f64, f64), b: (f64, f64)| -> f64 {
+                let shifts: &[f64] = if periodic { &[0.0, len, -len] } else { &[0.0] };
+                shifts
+                    .iter()
+                    .map(|s| (b.0 + s - a.1).max(a.0 - b.1 - s).max(0.0))
+                    .fold(f64::INFINITY, f64::min)
+            };
+            let touching = touching_elements(&face, periodic);
+            for (e, el) in els.iter().enumerate() {
+                let every: Vec<usize> = (0..els.len())
+                    .filter(|&f| {
+                        (0..2).all(|d| {
+                            gap(
+                                (el.lower[d], el.upper[d]),
+                                (els[f].lower[d], els[f].upper[d]),
+                            ) <= 0.0
+                        })
+                    })
+                    .collect();
+                assert_eq!(touching[e], every, "element {e}, periodic {periodic}");
+                assert!(every.contains(&e));
+            }
+            // Across the seam: an element at x = 0 touches one at x = 1.
+            let first = (0..els.len()).find(|&e| els[e].lower[0] == 0.0).unwrap();
+            let across = touching[first].iter().any(|&f| els[f].upper[0] == 1.0);
+            assert_eq!(across, periodic);
+        }
+    }
 }

@@ -463,8 +463,15 @@ fn bilinear_part_in_contact(c: [f64; 4], m: usize) -> Option<(f64, [f64; 2])> {
 
 /// A point of a nodal edge fit's supports: its signed distance `φ` to the
 /// edge, its weight, and the nodes with a basis value there (their places
-/// in the fit's node list, and the values).
-type FitPoint = (f64, f64, Vec<(usize, f64)>);
+/// in the fit's node list, and the values, in that order), split by their
+/// indicator's sign: the model's value inside the edge is the one of the
+/// nodes in contact, outside that of the others.
+struct FitPoint {
+    phi: f64,
+    weight: f64,
+    in_contact: Vec<(usize, f64)>,
+    out_of_contact: Vec<(usize, f64)>,
+}
 
 /// Evaluates the indicator on the slave face (scratch space held).
 struct Probe<'a> {
@@ -957,34 +964,47 @@ impl ContactInterface {
                         }
                     }
                     // The nodes with a value here, in the order of `index`.
-                    let n: Vec<(usize, f64)> = n
+                    let (in_contact, out_of_contact) = n
                         .into_iter()
                         .enumerate()
                         .filter(|&(_, v)| v != 0.0)
-                        .collect();
-                    points.push((frame.distance(level, p.x), w, n));
+                        .partition(|&(m, _)| ind[index[m]] > 0.0);
+                    points.push(FitPoint {
+                        phi: frame.distance(level, p.x),
+                        weight: w,
+                        in_contact,
+                        out_of_contact,
+                    });
                 }
             }
         }
         let mut area = vec![0.0; index.len()];
-        for (_, w, n) in &points {
-            for &(m, nm) in n {
-                area[m] += w * nm;
+        for p in &points {
+            for &(m, nm) in p.in_contact.iter().chain(&p.out_of_contact) {
+                area[m] += p.weight * nm;
             }
         }
         let data = self.edge_fit_data(&index, ind, e_star, h);
+        // Evaluated some 180 times per fit (`minimize_on`): each point adds
+        // to the nodes of its side of the edge only.
         let misfit = |delta: f64| -> Option<f64> {
             let mut model = vec![0.0; index.len()];
-            for (phi, w, n) in &points {
-                let d = phi + delta;
+            for p in &points {
+                let d = p.phi + delta;
                 let inside = d > 0.0;
+                let nodes = if inside {
+                    &p.in_contact
+                } else {
+                    &p.out_of_contact
+                };
+                if nodes.is_empty() {
+                    continue;
+                }
                 let d =
                     d.abs() * (1.0 - d.abs() / if inside { widths[0] } else { widths[1] }).max(0.0);
                 let f = if inside { d.sqrt() } else { d.powf(1.5) / h };
-                for &(m, nm) in n {
-                    if (ind[index[m]] > 0.0) == inside {
-                        model[m] += w * nm * f;
-                    }
+                for &(m, nm) in nodes {
+                    model[m] += p.weight * nm * f;
                 }
             }
             model.iter_mut().zip(&area).for_each(|(v, a)| *v /= a);
