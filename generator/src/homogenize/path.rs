@@ -133,6 +133,11 @@ pub struct PathSolver<'a> {
     /// The secant slope `F'` of the last self-consistency iterations (a first
     /// guess of the next pressure's: [`Secant`]).
     self_consistency_slope: Option<f64>,
+    /// The pressure and first (unit-flux) thermal phase of the last plain
+    /// two-phase solve, on the mechanical state the model was left in: the
+    /// start of the self-consistent iterations that follow on the same mesh
+    /// (the final adaptive level), which then need not solve them again.
+    plain_phase: Option<(f64, ThermalPhase)>,
     /// Wall time and Newton iterations spent per phase so far.
     phase_cost: PhaseCost,
 }
@@ -202,6 +207,7 @@ impl<'a> PathSolver<'a> {
             fields: None,
             history: Vec::new(),
             self_consistency_slope: None,
+            plain_phase: None,
             phase_cost: [(0.0, 0); 3],
         })
     }
@@ -700,15 +706,35 @@ impl<'a> PathSolver<'a> {
         }
         let theta_c = case.load.contact_temperature;
         let slave = slave_body(case);
-        // Mechanical phase at θ̄c along the pressure path.
-        self.model.set_frozen_temperature(UPPER, theta_c);
-        self.model.set_frozen_temperature(LOWER, theta_c);
-        let p0 = self.last_pressure;
-        let base_it = self.drive([p0, 0.0], [pressure, 0.0])?;
-        self.last_pressure = pressure;
+        let kept = self
+            .plain_phase
+            .take()
+            .filter(|(p, _)| !plain && *p == pressure && self.last_pressure == pressure);
+        let (base_it, first) = match kept {
+            // The plain solve's phases at this pressure, on this mesh: their
+            // iterations are counted there.
+            Some((_, first)) => (
+                0,
+                ThermalPhase {
+                    iterations: 0,
+                    ..first
+                },
+            ),
+            None => {
+                // Mechanical phase at θ̄c along the pressure path.
+                self.model.set_frozen_temperature(UPPER, theta_c);
+                self.model.set_frozen_temperature(LOWER, theta_c);
+                let p0 = self.last_pressure;
+                let base_it = self.drive([p0, 0.0], [pressure, 0.0])?;
+                self.last_pressure = pressure;
+                // First thermal phase at unit flux.
+                (
+                    base_it,
+                    self.thermal_phase(pressure, [theta_c, theta_c], 1.0)?,
+                )
+            }
+        };
         let base = self.model.save();
-        // First thermal phase at unit flux.
-        let first = self.thermal_phase(pressure, [theta_c, theta_c], 1.0)?;
         let mut out = Vec::with_capacity(fluxes.len());
         self.fields = None;
         for (i, &flux) in fluxes.iter().enumerate() {
@@ -838,6 +864,9 @@ impl<'a> PathSolver<'a> {
                 }
             };
             out.push(r);
+        }
+        if plain {
+            self.plain_phase = Some((pressure, first));
         }
         Ok(out)
     }
