@@ -945,8 +945,8 @@ pub const SELF_CONSISTENCY_ESTIMATE_SHARE: f64 = 0.01;
 /// `|F(ϑ) − ϑ*| = |F'|/(1 − F') |F(ϑ) − ϑ|`, here doubled for the chord's
 /// own error. On the 3D egg box's path (level 4, 1–244 kPa, `F'` −0.005 to
 /// −0.2) the first-order distance matched the distance to the converged
-/// iterate within 1 % on the short chords of the late iterations, where it
-/// stops them, and within a factor 2.3 on the long ones of the first
+/// iterate within 1 % at the iterations where it stops them, and within a
+/// factor 2.3 (either way) at the others, on longer chords
 /// (docs/adaptivity.md).
 pub fn fixed_point_output_error(slope: f64, change: f64) -> f64 {
     2.0 * slope.abs() / (1.0 - slope) * change
