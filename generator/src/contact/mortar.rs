@@ -2481,9 +2481,9 @@ mod tests {
     use super::*;
     use crate::geometry::shapes::cuboid;
 
-    /// The touching elements of a locally refined face (three levels, a
-    /// refined patch across the periodic seams) are those of the test of
-    /// every pair, with and without periodicity.
+    /// The touching elements of a locally refined face (three levels,
+    /// refined at both ends of the x seam) are those of the test of every
+    /// pair, with and without periodicity.
     #[test]
     fn touching_elements_agree_with_every_pair() {
         let mut nurbs = cuboid([0.0; 3], [1.0, 1.0, 0.5]);
