@@ -22,7 +22,7 @@
 
 use super::ordering::{
     approximate_minimum_degree, factor_entries, inverse_permutation, is_permutation,
-    multipliers_after_neighbours,
+    multipliers_after_neighbours, postordered,
 };
 use crate::{Error, Result};
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
@@ -907,9 +907,19 @@ fn multiply_add(
     }
 }
 
-/// The permutation handed to faer's symbolic Cholesky (`None`: faer's AMD). For LDLᵀ with
+/// The permutation handed to faer's symbolic Cholesky (`None`: faer's AMD), postordered
+/// ([`postordered`]: the same fill, supernodes of consecutive columns). For LDLᵀ with
 /// multiplier rows, AMD is computed here and every −1 equation moved after its +1 neighbours.
 fn symmetric_permutation(
+    pattern: SymbolicSparseColMatRef<'_, usize>,
+    kind: &Factorization,
+    ordering: Ordering,
+) -> Result<Option<Vec<usize>>> {
+    Ok(elimination_order(pattern, kind, ordering)?.map(|perm| postordered(pattern, perm)))
+}
+
+/// [`symmetric_permutation`] before the postorder.
+fn elimination_order(
     pattern: SymbolicSparseColMatRef<'_, usize>,
     kind: &Factorization,
     ordering: Ordering,
