@@ -189,6 +189,14 @@ impl NodeGraph {
         let mut options = [0 as metis_sys::idx_t; metis_sys::METIS_NOPTIONS as usize];
         let mut perm = vec![0 as metis_sys::idx_t; m];
         let mut iperm = vec![0 as metis_sys::idx_t; m];
+        // METIS catches SIGABRT and SIGTERM while it runs (GKlib's `gk_sigtrap`: it installs
+        // its own handlers, process-wide, and puts back the ones it found when it returns).
+        // Two calls at once (the 2D points refine in parallel) could put back each other's
+        // handlers and leave METIS's installed for good, so one call runs at a time. A SIGTERM
+        // that arrives during a call (about 2 s on the largest 3D level) ends that call with
+        // an error, and the order is AMD's.
+        static METIS: std::sync::Mutex<()> = std::sync::Mutex::new(());
+        let _one_at_a_time = METIS.lock().unwrap_or_else(|e| e.into_inner());
         // SAFETY: the arrays have the lengths METIS reads (nvtxs + 1, xadj[nvtxs], nvtxs,
         // METIS_NOPTIONS, nvtxs, nvtxs); xadj is non-decreasing from 0 and every adjncy entry
         // is a vertex other than its own, as NodeND requires; METIS keeps no pointer after the
