@@ -545,10 +545,11 @@ impl<'a> PathSolver<'a> {
             next.self_consistency_slope = self.self_consistency_slope;
             next.model.set_symmetric_solvers(src.symmetric_solvers());
             transfer_state(src, &mut next.model);
-            // The previous level's factors are not needed while this one
-            // solves (re-analysed should it be kept after a failure).
+            // The previous level's factors and caches are not needed while
+            // this one solves (rebuilt should it be kept after a failure).
             if let Some(f) = fine.as_mut() {
                 f.newton.release_solvers();
+                f.model.release_caches();
             }
             next.last_pressure = pressure;
             let built = clock.elapsed().as_secs_f64();

@@ -40,8 +40,25 @@ pub struct Body {
     pub material: Material,
     /// Index of the body's first control point among all nodes.
     pub node_offset: usize,
-    /// Bulk quadrature of every element (connectivity local to the patch).
+    /// Bulk quadrature of every element (connectivity local to the patch); empty while
+    /// released ([`Model::release_caches`]).
     pub quadrature: Vec<ElementQuadrature>,
+    /// Gauss points per direction of the bulk quadrature (`None`: the degree's default).
+    bulk_points: Option<usize>,
+}
+
+/// The bulk quadrature of every element of `patch`: `bulk_points` Gauss points per direction,
+/// or [`default_bulk_points`] of each direction's degree.
+fn bulk_quadrature(patch: &ThbPatch, bulk_points: Option<usize>) -> Vec<ElementQuadrature> {
+    let nq: Vec<usize> = patch
+        .knots()
+        .iter()
+        .map(|k| bulk_points.unwrap_or_else(|| default_bulk_points(k.degree())))
+        .collect();
+    (0..patch.n_elements())
+        .into_par_iter()
+        .map(|e| patch.element_quadrature(e, &nq))
+        .collect()
 }
 
 impl Body {
@@ -195,24 +212,14 @@ impl ModelBuilder {
         let l = self.scales.length;
         let scaled = patch.map_points(|p| [p[0] / l, p[1] / l, p[2] / l]);
         let node_offset = self.bodies.iter().map(|b| b.patch.n_control_points()).sum();
-        let nq: Vec<usize> = scaled
-            .knots()
-            .iter()
-            .map(|k| {
-                self.bulk_points
-                    .unwrap_or_else(|| default_bulk_points(k.degree()))
-            })
-            .collect();
-        let quadrature = (0..scaled.n_elements())
-            .into_par_iter()
-            .map(|e| scaled.element_quadrature(e, &nq))
-            .collect();
+        let quadrature = bulk_quadrature(&scaled, self.bulk_points);
         self.bodies.push(Body {
             name: name.to_string(),
             material: self.scales.material(material),
             patch: scaled,
             node_offset,
             quadrature,
+            bulk_points: self.bulk_points,
         });
         Ok(self.bodies.len() - 1)
     }
@@ -800,7 +807,29 @@ impl Model {
         }
     }
 
+    /// Frees what the model keeps only to go faster: the bulk quadrature of its elements and
+    /// the assembly of the phase it is not in. Both come back, the same, when next needed (the
+    /// quadrature at the next assembly or pattern, the other phase's assembly at its next
+    /// change of phase). For a model that waits: an adaptive level while the next one solves
+    /// (1.1 GB of the 72 kPa egg box's level 3 while its level 4 solves; docs/3d.md, "Stop 40").
+    pub fn release_caches(&mut self) {
+        self.kept_assembly = None;
+        for body in &mut self.bodies {
+            body.quadrature = Vec::new();
+        }
+    }
+
+    /// Recomputes the bulk quadrature that [`Model::release_caches`] freed.
+    fn restore_quadrature(&mut self) {
+        for body in &mut self.bodies {
+            if body.quadrature.is_empty() && body.patch.n_elements() > 0 {
+                body.quadrature = bulk_quadrature(&body.patch, body.bulk_points);
+            }
+        }
+    }
+
     fn rebuild_assembly(&mut self) {
+        self.restore_quadrature();
         let fields = self.phase_fields();
         self.elements.clear();
         let mut element_eqs = Vec::new();
@@ -1356,6 +1385,7 @@ impl NonlinearProblem for Model {
     }
 
     fn assemble(&mut self, mut values: Option<&mut [f64]>, residual: &mut [f64]) -> Result<()> {
+        self.restore_quadrature();
         self.assemble_all(values.as_deref_mut(), residual)?;
         if let Some(v) = values {
             self.regularize_platens(v, residual);

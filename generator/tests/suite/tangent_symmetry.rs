@@ -278,3 +278,31 @@ fn thermal_models_without_multipliers_have_symmetric_tangents() {
         );
     }
 }
+
+/// A model whose caches were released ([`Model::release_caches`]: the bulk quadrature and the
+/// other phase's assembly, as an adaptive level's while the next one solves) assembles the same
+/// tangent and residual to the bit, in its phase and after a change of phase.
+#[test]
+fn released_caches_come_back_the_same() {
+    let c = case(2, LateralCondition::Periodic, TopLateral::Fixed);
+    let mut model = mechanical(&c, 1.0e4);
+    let kept = tangent(&mut model);
+    model.release_caches();
+    assert!(model.bodies.iter().all(|b| b.quadrature.is_empty()));
+    assert!(
+        tangent(&mut model) == kept,
+        "mechanical phase after release"
+    );
+    let (mut released, mut twin) = (mechanical(&c, 1.0e4), mechanical(&c, 1.0e4));
+    for (m, release) in [(&mut released, true), (&mut twin, false)] {
+        thermal(m, 1.0e4, 1.0e6);
+        if release {
+            m.release_caches();
+        }
+        m.set_coupling(Coupling::Mechanical).unwrap();
+    }
+    assert!(
+        tangent(&mut released) == tangent(&mut twin),
+        "mechanical phase after a thermal one"
+    );
+}
