@@ -811,7 +811,7 @@ impl Model {
     /// the assembly of the phase it is not in. Both come back, the same, when next needed (the
     /// quadrature at the next assembly or pattern, the other phase's assembly at its next
     /// change of phase). For a model that waits: an adaptive level while the next one solves
-    /// (1.1 GB of the 72 kPa egg box's level 3 while its level 4 solves; docs/3d.md, "Stop 40").
+    /// (the 72 kPa egg box's peak 12.5 → 12.0 GB; docs/3d.md, "Stop 40").
     pub fn release_caches(&mut self) {
         self.kept_assembly = None;
         for body in &mut self.bodies {
