@@ -25,21 +25,51 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 const DROPPED: usize = usize::MAX;
 /// Marks a dropped entry in the 32-bit scatter map.
 const DROPPED_ENTRY: u32 = u32::MAX;
-/// Marks a dropped entry in the 16-bit scatter map.
-const DROPPED_OFFSET: u16 = u16::MAX;
+/// The run map's rows, offsets and lengths are below this (16 bits).
+const RUN_LIMIT: u16 = u16::MAX;
 
 /// Where each element-block entry goes in the CSC values. Where every column
-/// holds fewer than [`DROPPED_OFFSET`] entries (3D p = 2 tangents: a few
-/// thousand at most), its offset within its column in 16 bits: the scatter
-/// maps are the largest bookkeeping of the refined 3D levels (4.8 GB of the
-/// 12.1 GB heap peak of the adaptive egg box's fourth level in 32 bits).
+/// holds fewer than [`RUN_LIMIT`] entries (3D p = 2 tangents: a few
+/// thousand at most), in runs of offsets within the columns ([`RunMap`]): the
+/// scatter maps are the largest bookkeeping of the refined 3D levels (4.8 GB
+/// of the 12.1 GB heap peak of the adaptive egg box's fourth level with one
+/// 32-bit position per entry, 1.1 GB of the third level's 4.3 GB with one
+/// 16-bit offset per entry).
 #[derive(Debug, Clone)]
 enum ScatterMap {
-    /// `position − col_ptr[column]`, [`DROPPED_OFFSET`] if dropped.
-    Offsets(Vec<u16>),
-    /// The position, [`DROPPED_ENTRY`] if dropped.
+    /// Runs of offsets within the columns, shared by the columns of a node.
+    Runs(RunMap),
+    /// The position of every entry, [`DROPPED_ENTRY`] if dropped.
     Positions(Vec<u32>),
 }
+
+/// Local rows `row..row + len` of an element column go to the consecutive
+/// entries `offset..offset + len` of its global column (offsets from the
+/// column's start). The fields of a node have consecutive equations, and so
+/// have the nodes numbered one after the other: a column of a 3D p = 2
+/// mechanical element (81 rows) is a few runs, not 81 offsets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Run {
+    row: u16,
+    len: u16,
+    offset: u16,
+}
+
+/// The scatter map in runs. Consecutive columns of an element with the same
+/// offsets (the fields of one node, whose global columns have the same rows)
+/// share one run list.
+#[derive(Debug, Clone, Default)]
+struct RunMap {
+    /// The run list of every local column of every element (indexed like
+    /// `Assembly::dof_eq`), [`NO_RUNS`] for a dropped column.
+    column_list: Vec<u32>,
+    /// Run list `l` is `runs[list_ptr[l]..list_ptr[l + 1]]`.
+    list_ptr: Vec<usize>,
+    runs: Vec<Run>,
+}
+
+/// Marks a dropped column in [`RunMap::column_list`].
+const NO_RUNS: u32 = u32::MAX;
 
 /// Element-to-equation map and CSC pattern built once; values filled per iteration.
 #[derive(Debug, Clone)]
@@ -155,6 +185,18 @@ impl Assembly {
             .map(|&i| (i != DROPPED).then_some(i))
     }
 
+    /// Bytes held by the scatter map (where each element-block entry goes in the values).
+    pub fn scatter_map_bytes(&self) -> usize {
+        match &self.entry_pos {
+            ScatterMap::Runs(map) => {
+                map.column_list.len() * size_of::<u32>()
+                    + map.list_ptr.len() * size_of::<usize>()
+                    + map.runs.len() * size_of::<Run>()
+            }
+            ScatterMap::Positions(positions) => positions.len() * size_of::<u32>(),
+        }
+    }
+
     /// Number of element colors (parallel stages of one assembly).
     pub fn n_colors(&self) -> usize {
         self.color_ptr.len() - 1
@@ -202,29 +244,29 @@ impl Assembly {
             r_e.resize(n, 0.0);
             local(e, k_e, r_e)?;
             let eqs = &self.dof_eq[self.dof_ptr[e]..self.dof_ptr[e + 1]];
-            let entries = self.entry_ptr[e]..self.entry_ptr[e + 1];
             // SAFETY: elements of one color share no equation, hence no matrix entry and no rhs
             // entry; colors are processed one after the other.
             unsafe {
                 match &self.entry_pos {
-                    ScatterMap::Offsets(offsets) => {
+                    ScatterMap::Runs(map) => {
                         let col_ptr = self.pattern.col_ptr();
-                        let offsets = offsets[entries].chunks_exact(n.max(1));
-                        for ((&j, column), k) in
-                            eqs.iter().zip(offsets).zip(k_e.chunks_exact(n.max(1)))
-                        {
-                            if j == DROPPED {
+                        let lists = &map.column_list[self.dof_ptr[e]..self.dof_ptr[e + 1]];
+                        for ((&j, &l), k) in eqs.iter().zip(lists).zip(k_e.chunks_exact(n.max(1))) {
+                            if l == NO_RUNS {
                                 continue;
                             }
                             let start = col_ptr[j];
-                            for (&o, &k) in column.iter().zip(k) {
-                                if o != DROPPED_OFFSET {
-                                    values.add(start + o as usize, k);
+                            let l = l as usize;
+                            for run in &map.runs[map.list_ptr[l]..map.list_ptr[l + 1]] {
+                                let (row, at) = (run.row as usize, start + run.offset as usize);
+                                for (t, &k) in k[row..row + run.len as usize].iter().enumerate() {
+                                    values.add(at + t, k);
                                 }
                             }
                         }
                     }
                     ScatterMap::Positions(positions) => {
+                        let entries = self.entry_ptr[e]..self.entry_ptr[e + 1];
                         for (&p, &k) in positions[entries].iter().zip(k_e.iter()) {
                             if p != DROPPED_ENTRY {
                                 values.add(p as usize, k);
@@ -393,8 +435,9 @@ fn build_pattern(
     SymbolicSparseColMat::new_checked(n_eq, n_eq, col_ptr, None, row_idx)
 }
 
-/// Where every entry (column-major) of every element block goes in the CSC values: offsets
-/// within the columns where every column is short enough, positions otherwise ([`ScatterMap`]).
+/// Where every entry (column-major) of every element block goes in the CSC values: runs of
+/// offsets within the columns where every column and every element is short enough for 16
+/// bits, positions otherwise ([`ScatterMap`]).
 fn build_scatter_map(
     pattern: &SymbolicSparseColMat<usize>,
     dof_ptr: &[usize],
@@ -410,42 +453,141 @@ fn build_scatter_map(
     let col_ptr = pattern.col_ptr();
     let longest = (0..pattern.ncols())
         .map(|j| col_ptr[j + 1] - col_ptr[j])
+        .chain((0..n_elements).map(|e| dof_ptr[e + 1] - dof_ptr[e]))
         .max()
         .unwrap_or(0);
-    let map = if longest < DROPPED_OFFSET as usize {
-        ScatterMap::Offsets(fill_scatter_map(
-            pattern,
-            dof_ptr,
-            dof_eq,
-            &entry_ptr,
-            DROPPED_OFFSET,
-            |_, k| k as u16,
-        ))
+    let map = if longest < RUN_LIMIT as usize {
+        ScatterMap::Runs(fill_run_map(pattern, dof_ptr, dof_eq))
     } else {
-        ScatterMap::Positions(fill_scatter_map(
-            pattern,
-            dof_ptr,
-            dof_eq,
-            &entry_ptr,
-            DROPPED_ENTRY,
-            |start, k| (start + k) as u32,
-        ))
+        ScatterMap::Positions(fill_positions(pattern, dof_ptr, dof_eq, &entry_ptr))
     };
     (entry_ptr, map)
 }
 
-/// The scatter map's entries: `entry(col_ptr[j], k)` for the entry of row `i` in column `j`, `k`
-/// its index within the column, `dropped` where the row or the column is prescribed.
-fn fill_scatter_map<T: Copy + Send + Sync>(
+/// Calls `column(b, j, within)` for every kept local column `b` (equation `j`) of the element
+/// with local equations `eqs`, `within[a]` the index within global column `j` of the entry of
+/// local row `a` ([`DROPPED`] for a dropped row). `rows` and `within` are scratch.
+fn for_each_element_column(
+    pattern: &SymbolicSparseColMat<usize>,
+    eqs: &[usize],
+    (rows, within): &mut (Vec<usize>, Vec<usize>),
+    mut column: impl FnMut(usize, usize, &[usize]),
+) {
+    let (col_ptr, row_idx) = (pattern.col_ptr(), pattern.row_idx());
+    let n = eqs.len();
+    // The element's rows in increasing equation: each column is then
+    // searched forwards from the previous row's entry.
+    rows.clear();
+    rows.extend((0..n).filter(|&a| eqs[a] != DROPPED));
+    rows.sort_unstable_by_key(|&a| eqs[a]);
+    within.clear();
+    within.resize(n, DROPPED);
+    for (b, &j) in eqs.iter().enumerate() {
+        if j == DROPPED {
+            continue;
+        }
+        let global = &row_idx[col_ptr[j]..col_ptr[j + 1]];
+        let mut from = 0;
+        for &a in rows.iter() {
+            let k = from + gallop(&global[from..], eqs[a]);
+            assert!(
+                global.get(k) == Some(&eqs[a]),
+                "element entry missing from the pattern"
+            );
+            within[a] = k;
+            from = k;
+        }
+        column(b, j, within);
+    }
+}
+
+/// The scatter map in runs ([`RunMap`]): built per element in parallel, concatenated in order.
+fn fill_run_map(
+    pattern: &SymbolicSparseColMat<usize>,
+    dof_ptr: &[usize],
+    dof_eq: &[usize],
+) -> RunMap {
+    let n_elements = dof_ptr.len() - 1;
+    // Per element: each column's list (local index) and the lists' runs.
+    let per_element: Vec<(Vec<u32>, Vec<usize>, Vec<Run>)> = (0..n_elements)
+        .into_par_iter()
+        .map_init(
+            || ((Vec::new(), Vec::new()), Vec::new()),
+            |(scratch, previous), e| {
+                let eqs = &dof_eq[dof_ptr[e]..dof_ptr[e + 1]];
+                let mut lists = vec![NO_RUNS; eqs.len()];
+                let mut ends: Vec<usize> = Vec::new();
+                let mut runs: Vec<Run> = Vec::new();
+                let mut last: Option<usize> = None;
+                for_each_element_column(pattern, eqs, scratch, |b, _, within| {
+                    // The same offsets as the previous kept column: its list.
+                    if let Some(l) = last
+                        && previous.as_slice() == within
+                    {
+                        lists[b] = l as u32;
+                        return;
+                    }
+                    let mut a = 0;
+                    while a < within.len() {
+                        if within[a] == DROPPED {
+                            a += 1;
+                            continue;
+                        }
+                        let mut len = 1;
+                        while a + len < within.len() && within[a + len] == within[a] + len {
+                            len += 1;
+                        }
+                        runs.push(Run {
+                            row: a as u16,
+                            len: len as u16,
+                            offset: within[a] as u16,
+                        });
+                        a += len;
+                    }
+                    ends.push(runs.len());
+                    lists[b] = (ends.len() - 1) as u32;
+                    last = Some(ends.len() - 1);
+                    previous.clear();
+                    previous.extend_from_slice(within);
+                });
+                (lists, ends, runs)
+            },
+        )
+        .collect();
+    let mut map = RunMap {
+        column_list: Vec::with_capacity(dof_eq.len()),
+        list_ptr: vec![0],
+        runs: Vec::with_capacity(per_element.iter().map(|(_, _, r)| r.len()).sum()),
+    };
+    for (lists, ends, runs) in per_element {
+        let (first_list, first_run) = (map.list_ptr.len() - 1, map.runs.len());
+        assert!(
+            first_list + ends.len() < NO_RUNS as usize,
+            "assembly scatter map too large for 32-bit run lists"
+        );
+        map.column_list.extend(lists.iter().map(|&l| {
+            if l == NO_RUNS {
+                l
+            } else {
+                l + first_list as u32
+            }
+        }));
+        map.list_ptr.extend(ends.iter().map(|&end| first_run + end));
+        map.runs.extend_from_slice(&runs);
+    }
+    map
+}
+
+/// The position in the CSC values of every entry (column-major) of every element block,
+/// [`DROPPED_ENTRY`] where the row or the column is prescribed.
+fn fill_positions(
     pattern: &SymbolicSparseColMat<usize>,
     dof_ptr: &[usize],
     dof_eq: &[usize],
     entry_ptr: &[usize],
-    dropped: T,
-    entry: impl Fn(usize, usize) -> T + Sync,
-) -> Vec<T> {
+) -> Vec<u32> {
     let n_elements = dof_ptr.len() - 1;
-    let mut entry_pos = vec![dropped; entry_ptr[n_elements]];
+    let mut entry_pos = vec![DROPPED_ENTRY; entry_ptr[n_elements]];
     // Split the map into per-element slices, then fill them in parallel.
     let mut blocks = Vec::with_capacity(n_elements);
     let mut rest = entry_pos.as_mut_slice();
@@ -455,35 +597,20 @@ fn fill_scatter_map<T: Copy + Send + Sync>(
         rest = tail;
     }
     let col_ptr = pattern.col_ptr();
-    let row_idx = pattern.row_idx();
-    blocks
-        .into_par_iter()
-        .enumerate()
-        .for_each_init(Vec::new, |rows, (e, block)| {
+    blocks.into_par_iter().enumerate().for_each_init(
+        || (Vec::new(), Vec::new()),
+        |scratch, (e, block)| {
             let eqs = &dof_eq[dof_ptr[e]..dof_ptr[e + 1]];
             let n = eqs.len();
-            // The element's rows in increasing equation: each column is then
-            // searched forwards from the previous row's entry.
-            rows.clear();
-            rows.extend((0..n).filter(|&a| eqs[a] != DROPPED));
-            rows.sort_unstable_by_key(|&a| eqs[a]);
-            for (b, &j) in eqs.iter().enumerate() {
-                if j == DROPPED {
-                    continue;
+            for_each_element_column(pattern, eqs, scratch, |b, j, within| {
+                for (a, &k) in within.iter().enumerate() {
+                    if k != DROPPED {
+                        block[b * n + a] = (col_ptr[j] + k) as u32;
+                    }
                 }
-                let column = &row_idx[col_ptr[j]..col_ptr[j + 1]];
-                let mut from = 0;
-                for &a in rows.iter() {
-                    let k = from + gallop(&column[from..], eqs[a]);
-                    assert!(
-                        column.get(k) == Some(&eqs[a]),
-                        "element entry missing from the pattern"
-                    );
-                    block[b * n + a] = entry(col_ptr[j], k);
-                    from = k;
-                }
-            }
-        });
+            });
+        },
+    );
     entry_pos
 }
 
