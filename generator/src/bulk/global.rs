@@ -18,8 +18,8 @@
 use crate::{Error, Result};
 use faer::sparse::{SymbolicSparseColMat, SymbolicSparseColMatRef};
 use rayon::prelude::*;
-use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
 
 /// Marks a dropped (prescribed) local dof and a dropped scatter entry.
 const DROPPED: usize = usize::MAX;
@@ -75,7 +75,8 @@ const NO_RUNS: u32 = u32::MAX;
 #[derive(Debug, Clone)]
 pub struct Assembly {
     n_eq: usize,
-    pattern: SymbolicSparseColMat<usize>,
+    /// Shared with the linear solvers that factorize it ([`Assembly::shared_pattern`]).
+    pattern: Arc<SymbolicSparseColMat<usize>>,
     /// Element e's local dofs are `dof_eq[dof_ptr[e]..dof_ptr[e + 1]]`.
     dof_ptr: Vec<usize>,
     /// Global equation of each local dof, [`DROPPED`] if prescribed.
@@ -132,7 +133,7 @@ impl Assembly {
             color_elements(&dof_ptr, &dof_eq, &eq_elem_ptr, &eq_elems);
         Self {
             n_eq,
-            pattern,
+            pattern: Arc::new(pattern),
             dof_ptr,
             dof_eq,
             entry_ptr,
@@ -204,7 +205,13 @@ impl Assembly {
 
     /// The CSC pattern: full (both triangles), rows sorted within each column, diagonal included.
     pub fn symbolic(&self) -> SymbolicSparseColMatRef<'_, usize> {
-        self.pattern.as_ref()
+        (*self.pattern).as_ref()
+    }
+
+    /// The CSC pattern of [`Self::symbolic`], shared rather than copied (a linear solver that
+    /// keeps it: [`crate::solve::linear::LinearSolver::with_pattern`]).
+    pub fn shared_pattern(&self) -> Arc<SymbolicSparseColMat<usize>> {
+        Arc::clone(&self.pattern)
     }
 
     /// The global matrix as a faer view over `values` (CSC, length [`Self::nnz`]).

@@ -39,6 +39,7 @@ use faer::sparse::linalg::lu::{LuRef, NumericLu, SymbolicLu, factorize_symbolic_
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
 use faer::traits::{ComplexField, RealField};
 use faer::{Conj, MatMut, Par, Side};
+use std::sync::Arc;
 
 /// LDLᵀ pivots of magnitude at most this times max|aᵢⱼ| are regularized (then LU is used).
 pub const LDLT_REGULARIZATION_EPSILON: f64 = 1e-13;
@@ -175,7 +176,8 @@ enum Factors {
 /// and the numeric storage.
 pub struct LinearSolver {
     kind: Factorization,
-    pattern: SymbolicSparseColMat<usize>,
+    /// Sorted within columns, no `col_nnz`; shared with the assembly where it came from one.
+    pattern: Arc<SymbolicSparseColMat<usize>>,
     factors: Factors,
     /// The last factorized matrix values, for iterative refinement.
     values: Vec<f64>,
@@ -224,13 +226,31 @@ impl LinearSolver {
         kind: Factorization,
         ordering: Ordering,
     ) -> Result<Self> {
+        Self::with_pattern(Arc::new(owned_pattern(pattern)), kind, ordering)
+    }
+
+    /// [`LinearSolver::new`] on a pattern it shares rather than copies (an assembly's,
+    /// [`crate::bulk::global::Assembly::shared_pattern`]: half a gigabyte at 57 M entries).
+    /// The rows must be sorted within each column.
+    #[track_caller]
+    pub fn with_pattern(
+        pattern: Arc<SymbolicSparseColMat<usize>>,
+        kind: Factorization,
+        ordering: Ordering,
+    ) -> Result<Self> {
         let n = pattern.ncols();
         assert_eq!(
             pattern.nrows(),
             n,
             "LinearSolver::new: the pattern must be square"
         );
-        let pattern = owned_pattern(pattern);
+        debug_assert!(
+            (0..n).all(|j| {
+                let rows = &pattern.row_idx()[pattern.col_ptr()[j]..pattern.col_ptr()[j + 1]];
+                rows.windows(2).all(|w| w[0] < w[1])
+            }),
+            "LinearSolver::with_pattern: rows not sorted"
+        );
         if let Ordering::Custom(perm) | Ordering::FewerEntries(perm) = &ordering
             && !is_permutation(perm, n)
         {
@@ -249,7 +269,7 @@ impl LinearSolver {
                         "Ordering::Default for Factorization::Lu (faer's LU always orders its columns by COLAMD)",
                     ));
                 }
-                let symbolic = factorize_symbolic_lu(pattern.as_ref(), Default::default())
+                let symbolic = factorize_symbolic_lu((*pattern).as_ref(), Default::default())
                     .map_err(|e| {
                         Error::LinearSolver(format!("LU symbolic analysis failed: {e:?}"))
                     })?;
@@ -259,10 +279,10 @@ impl LinearSolver {
                 }
             }
             Factorization::Cholesky | Factorization::Ldlt { .. } => {
-                let perm = symmetric_permutation(pattern.as_ref(), &kind, ordering)?;
+                let perm = symmetric_permutation((*pattern).as_ref(), &kind, ordering)?;
                 let symbolic = match perm {
                     None => factorize_symbolic_cholesky(
-                        pattern.as_ref(),
+                        (*pattern).as_ref(),
                         Side::Lower,
                         SymmetricOrdering::Amd,
                         CholeskySymbolicParams::default(),
@@ -270,7 +290,7 @@ impl LinearSolver {
                     Some(perm) => {
                         let inverse = inverse_permutation(&perm);
                         factorize_symbolic_cholesky(
-                            pattern.as_ref(),
+                            (*pattern).as_ref(),
                             Side::Lower,
                             SymmetricOrdering::Custom(PermRef::new_checked(&perm, &inverse, n)),
                             CholeskySymbolicParams::default(),
@@ -350,7 +370,7 @@ impl LinearSolver {
             )));
         }
         self.values.copy_from_slice(values);
-        self.norm_inf = row_sum_norm(self.pattern.as_ref(), values);
+        self.norm_inf = row_sum_norm((*self.pattern).as_ref(), values);
         self.factorize_kept()
     }
 
@@ -445,7 +465,7 @@ impl LinearSolver {
             self.workspace = Some((req, buffer));
         }
         let stack = MemStack::new(&mut self.workspace.as_mut().expect("allocated above").1);
-        let a = SparseColMatRef::new(self.pattern.as_ref(), &self.values);
+        let a = SparseColMatRef::new((*self.pattern).as_ref(), &self.values);
         match &mut self.factors {
             Factors::Lu { symbolic, numeric } => {
                 symbolic.factorize_numeric_lu(numeric, a, par, stack, Default::default()).map_err(|e| match e {
@@ -467,7 +487,7 @@ impl LinearSolver {
                     }
                     FactorValues::Single(l) => {
                         let values = single_values(&self.values)?;
-                        let a = SparseColMatRef::new(self.pattern.as_ref(), &values);
+                        let a = SparseColMatRef::new((*self.pattern).as_ref(), &values);
                         cholesky_numeric(symbolic, l, a, signs, amax, par, stack)?
                     }
                 };
@@ -498,8 +518,12 @@ impl LinearSolver {
                     2 * entries * std::mem::size_of::<f64>(),
                 )?;
             }
-            let lu = LinearSolver::new(self.pattern.as_ref(), Factorization::Lu, Ordering::Default)
-                .map_err(failed)?;
+            let lu = LinearSolver::new(
+                (*self.pattern).as_ref(),
+                Factorization::Lu,
+                Ordering::Default,
+            )
+            .map_err(failed)?;
             self.lu = Some(Box::new(lu));
         }
         let lu = self.lu.as_mut().expect("analysed above");
@@ -620,7 +644,7 @@ impl LinearSolver {
         rhs: &mut [f64],
         max_iterations: usize,
     ) -> Result<Option<usize>> {
-        self.solve_preconditioned_on(self.pattern.as_ref(), values, rhs, max_iterations)
+        self.solve_preconditioned_on((*self.pattern).as_ref(), values, rhs, max_iterations)
     }
 
     /// [`Self::solve_preconditioned`] of a matrix on another `pattern` of the same equations
@@ -808,7 +832,7 @@ impl LinearSolver {
 
     /// Whether this solver was analysed for exactly `pattern`.
     pub fn analyses(&self, pattern: SymbolicSparseColMatRef<'_, usize>) -> bool {
-        let own = self.pattern.as_ref();
+        let own = (*self.pattern).as_ref();
         own.nrows() == pattern.nrows()
             && own.col_ptr() == pattern.col_ptr()
             && own.row_idx() == pattern.row_idx()
@@ -866,7 +890,7 @@ impl LinearSolver {
 
     /// r ← r − A x with the kept matrix.
     fn subtract_product(&self, x: &[f64], r: &mut [f64]) {
-        multiply_add(self.pattern.as_ref(), &self.values, -1.0, x, r);
+        multiply_add((*self.pattern).as_ref(), &self.values, -1.0, x, r);
     }
 }
 

@@ -1313,6 +1313,10 @@ impl NonlinearProblem for Model {
         self.assembly.symbolic()
     }
 
+    fn shared_pattern(&self) -> Option<std::sync::Arc<faer::sparse::SymbolicSparseColMat<usize>>> {
+        Some(self.assembly.shared_pattern())
+    }
+
     fn pattern_version(&self) -> u64 {
         self.pattern_version
     }

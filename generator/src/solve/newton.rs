@@ -19,6 +19,11 @@ pub trait NonlinearProblem {
     /// The sparsity pattern of the tangent. When it changes (e.g. a new
     /// contact coupling), [`NonlinearProblem::pattern_version`] must change too.
     fn pattern(&self) -> faer::sparse::SymbolicSparseColMatRef<'_, usize>;
+    /// The pattern of [`NonlinearProblem::pattern`] to share rather than copy into the linear
+    /// solver that factorizes it, where the problem holds it shared.
+    fn shared_pattern(&self) -> Option<std::sync::Arc<faer::sparse::SymbolicSparseColMat<usize>>> {
+        None
+    }
     /// Identifies the current pattern; the solver re-analyses when it changes.
     fn pattern_version(&self) -> u64 {
         0
@@ -428,7 +433,10 @@ impl Newton {
             .retain(|k| k.classes != classes || k.solver.storage_bytes() < self.kept_solver_bytes);
         let ordering = p.ordering(&kind);
         let ordered = clock.elapsed().as_secs_f64();
-        let mut solver = LinearSolver::new(p.pattern(), kind, ordering)?;
+        let mut solver = match p.shared_pattern() {
+            Some(pattern) => LinearSolver::with_pattern(pattern, kind, ordering)?,
+            None => LinearSolver::new(p.pattern(), kind, ordering)?,
+        };
         if self.is_large(n, &solver) {
             solver.set_precision(self.large_factor_precision);
         }

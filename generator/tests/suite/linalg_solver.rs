@@ -193,6 +193,29 @@ fn cholesky_solves_spd_system_with_default_and_nd_orderings() {
     }
 }
 
+/// A solver on the assembly's shared pattern (`LinearSolver::with_pattern`) holds that pattern,
+/// not a copy, and solves each of the three kinds to the bit as one on a copy (`new`).
+#[test]
+fn a_shared_pattern_is_held_not_copied_and_solves_the_same() {
+    for (system, kind, advection) in three_kinds() {
+        let (values, rhs) = system.assemble(1.0, 0.01, advection);
+        let pattern = system.assembly.shared_pattern();
+        let before = std::sync::Arc::strong_count(&pattern);
+        let mut shared =
+            LinearSolver::with_pattern(pattern.clone(), kind.clone(), Ordering::Default).unwrap();
+        assert_eq!(std::sync::Arc::strong_count(&pattern), before + 1);
+        let mut copied =
+            LinearSolver::new(system.assembly.symbolic(), kind, Ordering::Default).unwrap();
+        assert!(shared.analyses(system.assembly.symbolic()));
+        shared.factorize(&values).unwrap();
+        copied.factorize(&values).unwrap();
+        let (x, y) = (solve(&mut shared, &rhs), solve(&mut copied, &rhs));
+        assert!(x.iter().zip(&y).all(|(a, b)| a.to_bits() == b.to_bits()));
+        drop(shared);
+        assert_eq!(std::sync::Arc::strong_count(&pattern), before);
+    }
+}
+
 /// LDLᵀ of the saddle point [K Bᵀ; B 0] (K SPD, multiplier rows with zero diagonal) solves
 /// to ≤ 1e−12 with AMD and nested dissection; each multiplier is eliminated after the
 /// displacements it couples to.
