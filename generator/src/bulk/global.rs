@@ -525,13 +525,10 @@ fn fill_run_map(
                 let mut lists = vec![NO_RUNS; eqs.len()];
                 let mut ends: Vec<usize> = Vec::new();
                 let mut runs: Vec<Run> = Vec::new();
-                let mut last: Option<usize> = None;
                 for_each_element_column(pattern, eqs, scratch, |b, _, within| {
-                    // The same offsets as the previous kept column: its list.
-                    if let Some(l) = last
-                        && previous.as_slice() == within
-                    {
-                        lists[b] = l as u32;
+                    // The same offsets as the element's previous kept column: its list.
+                    if !ends.is_empty() && previous.as_slice() == within {
+                        lists[b] = (ends.len() - 1) as u32;
                         return;
                     }
                     let mut a = 0;
@@ -553,7 +550,6 @@ fn fill_run_map(
                     }
                     ends.push(runs.len());
                     lists[b] = (ends.len() - 1) as u32;
-                    last = Some(ends.len() - 1);
                     previous.clear();
                     previous.extend_from_slice(within);
                 });

@@ -370,7 +370,7 @@ impl LinearSolver {
             )));
         }
         self.values.copy_from_slice(values);
-        self.norm_inf = row_sum_norm((*self.pattern).as_ref(), values);
+        self.norm_inf = row_sum_norm(self.pattern_ref(), values);
         self.factorize_kept()
     }
 
@@ -518,8 +518,8 @@ impl LinearSolver {
                     2 * entries * std::mem::size_of::<f64>(),
                 )?;
             }
-            let lu = LinearSolver::new(
-                (*self.pattern).as_ref(),
+            let lu = LinearSolver::with_pattern(
+                Arc::clone(&self.pattern),
                 Factorization::Lu,
                 Ordering::Default,
             )
@@ -644,7 +644,7 @@ impl LinearSolver {
         rhs: &mut [f64],
         max_iterations: usize,
     ) -> Result<Option<usize>> {
-        self.solve_preconditioned_on((*self.pattern).as_ref(), values, rhs, max_iterations)
+        self.solve_preconditioned_on(self.pattern_ref(), values, rhs, max_iterations)
     }
 
     /// [`Self::solve_preconditioned`] of a matrix on another `pattern` of the same equations
@@ -830,9 +830,14 @@ impl LinearSolver {
             + self.lu.as_ref().map_or(0, |lu| lu.storage_bytes())
     }
 
+    /// The kept pattern as a faer view.
+    fn pattern_ref(&self) -> SymbolicSparseColMatRef<'_, usize> {
+        (*self.pattern).as_ref()
+    }
+
     /// Whether this solver was analysed for exactly `pattern`.
     pub fn analyses(&self, pattern: SymbolicSparseColMatRef<'_, usize>) -> bool {
-        let own = (*self.pattern).as_ref();
+        let own = self.pattern_ref();
         own.nrows() == pattern.nrows()
             && own.col_ptr() == pattern.col_ptr()
             && own.row_idx() == pattern.row_idx()
@@ -890,7 +895,7 @@ impl LinearSolver {
 
     /// r ← r − A x with the kept matrix.
     fn subtract_product(&self, x: &[f64], r: &mut [f64]) {
-        multiply_add((*self.pattern).as_ref(), &self.values, -1.0, x, r);
+        multiply_add(self.pattern_ref(), &self.values, -1.0, x, r);
     }
 }
 
