@@ -212,13 +212,18 @@ pub struct Newton {
 /// (a previous iteration's, or the same phase's in the previous self-consistent
 /// iteration), or of an earlier pattern of the same equations (the mechanical
 /// phase after its contact pattern changed with the active set,
-/// [`NonlinearProblem::numbering_version`]). Measured on the 3D egg box (p = 2,
-/// 31 085 mechanical unknowns): a numeric factorization takes 16.5 s, a
-/// preconditioned GMRES iteration a fraction of a second. Smaller systems
-/// factorize every iteration, as their factorization is cheap: the demo
-/// tables' samples and the 2D adaptive levels measured so far (at most
-/// 11 943 unknowns, adaptive to 1e-4).
-pub const KRYLOV_MIN_EQ: usize = 20_000;
+/// [`NonlinearProblem::numbering_version`]), where their factor is also dense
+/// enough ([`KRYLOV_MIN_FILL`], which keeps 2D on a factorization per
+/// increment). Measured on the 3D egg box (p = 2, 31 085 mechanical unknowns):
+/// a numeric factorization takes 16.5 s, a preconditioned GMRES iteration a
+/// fraction of a second. Until stop 42 this was 20 000, and the adaptive
+/// egg box's second levels (8 700–19 600 mechanical unknowns, 1 300–2 400
+/// factor entries per equation) factorized every increment in double
+/// precision: at 72 kPa six factorizations of 2.2–2.9 s; with GMRES first
+/// (and [`crate::solve::linear::PARALLEL_FACTORIZATION_MIN_ENTRIES`]) three of
+/// 0.9–2.1 s in single precision, the level's solves 15.2 → 5.7 s and its
+/// jump the same to 1e-14 (docs/3d.md, "Stop 42").
+pub const KRYLOV_MIN_EQ: usize = 5_000;
 
 /// ... and whose symmetric factors hold at least this many entries per
 /// equation ([`LinearSolver::factor_nnz`]; LU factors, whose size faer does
