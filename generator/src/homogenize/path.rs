@@ -527,7 +527,9 @@ impl<'a> PathSolver<'a> {
             // `src` is prepared at its solved state: by `fitted` above (the
             // case mesh) or below (the previous level).
             let marks = mark_contact_edges(src, slave)?;
+            let marked = clock.elapsed().as_secs_f64();
             let bodies = refine_bodies(src_bodies, &marks).resolved(&heights, self.geometry.g0)?;
+            let refined = clock.elapsed().as_secs_f64();
             let dofs = (src.dim + 1) * bodies.n_control_points();
             if dofs > d.max_dofs {
                 if trace {
@@ -539,6 +541,7 @@ impl<'a> PathSolver<'a> {
                 break;
             }
             let mut next = PathSolver::with_bodies(case, self.geometry.clone(), bodies)?;
+            let modelled = clock.elapsed().as_secs_f64();
             next.capture = self.capture;
             // The self-consistency iterations of the final level start with
             // the slope of the path's previous pressure.
@@ -611,12 +614,15 @@ impl<'a> PathSolver<'a> {
             best = solved;
             if trace {
                 eprintln!(
-                    "adapt {pressure:e} Pa: level {level}, {} unknowns, levels {:?}, jump {:?}, estimate {:?}, contact {:.5}, fitted regime {regime:?}; built in {built:.1} s, solved in {:.1} s",
+                    "adapt {pressure:e} Pa: level {level}, {} unknowns, levels {:?}, jump {:?}, estimate {:?}, contact {:.5}, fitted regime {regime:?}; built in {built:.1} s (marks {marked:.1} s, refinement {:.1} s, model {:.1} s, transfer {:.1} s), solved in {:.1} s",
                     best[0].dofs,
                     best[0].levels,
                     best.iter().map(|r| r.jump).collect::<Vec<_>>(),
                     est,
                     best[0].interface.contact_fraction,
+                    refined - marked,
+                    modelled - refined,
+                    built - modelled,
                     clock.elapsed().as_secs_f64() - built
                 );
             }
