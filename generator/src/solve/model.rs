@@ -463,6 +463,8 @@ impl ModelBuilder {
             dofs: DofMapBuilder::new(0, 1).build()?,
             assembly: Assembly::new(0, Vec::new()),
             assembly_coupling: coupling,
+            assembly_stale: false,
+            assembly_builds: 0,
             kept_assembly: None,
             elements: Vec::new(),
             eq_class: Vec::new(),
@@ -518,6 +520,13 @@ pub struct Model {
     assembly: Assembly,
     /// The phase `assembly` was built for.
     assembly_coupling: Coupling,
+    /// Whether `assembly` is out of date (new equations or contact
+    /// pattern): rebuilt at the next [`NonlinearProblem::prepare`] or
+    /// assembly ([`Model::ensure_assembly`]), once for any number of changes
+    /// in between.
+    assembly_stale: bool,
+    /// Assemblies built so far ([`Model::assembly_builds`]).
+    assembly_builds: usize,
     /// The last assembly of another phase, reused when the phases alternate
     /// (the self-consistent iterations) on an unchanged pattern.
     kept_assembly: Option<(Coupling, Assembly)>,
@@ -753,7 +762,7 @@ impl Model {
             }
         }
         self.eq_coords = coords;
-        self.rebuild_assembly();
+        self.mark_assembly_stale();
         Ok(())
     }
 
@@ -828,7 +837,30 @@ impl Model {
         }
     }
 
-    fn rebuild_assembly(&mut self) {
+    /// Marks the assembly out of date; [`Model::ensure_assembly`] builds it.
+    /// A new adaptive level's model builds its equations before the state
+    /// is transferred to it, and the first preparation then widens the
+    /// contact band to that state: built at once, the first pattern and
+    /// scatter map were thrown away (2.7 s of the 72 kPa egg box's level-4
+    /// build; docs/3d.md, "Stop 42").
+    fn mark_assembly_stale(&mut self) {
+        self.assembly_stale = true;
+    }
+
+    /// Assemblies (pattern, scatter map, coloring) built so far: a change of
+    /// equations or of the contact pattern builds one at the next
+    /// preparation or assembly, unless the current or the kept one of
+    /// another phase describes the new equations.
+    pub fn assembly_builds(&self) -> usize {
+        self.assembly_builds
+    }
+
+    /// Builds the assembly if it is out of date ([`Model::mark_assembly_stale`]).
+    fn ensure_assembly(&mut self) {
+        if !self.assembly_stale {
+            return;
+        }
+        self.assembly_stale = false;
         self.restore_quadrature();
         let fields = self.phase_fields();
         self.elements.clear();
@@ -863,7 +895,10 @@ impl Model {
             .find_map(|c| c.take_if(|(_, a)| a.describes(n_eq, &element_eqs)));
         self.assembly = match found {
             Some((_, a)) => a,
-            None => Assembly::new(n_eq, element_eqs),
+            None => {
+                self.assembly_builds += 1;
+                Assembly::new(n_eq, element_eqs)
+            }
         };
         self.assembly_coupling = self.coupling;
         self.kept_assembly = candidates
@@ -1310,10 +1345,12 @@ impl NonlinearProblem for Model {
     }
 
     fn pattern(&self) -> faer::sparse::SymbolicSparseColMatRef<'_, usize> {
+        debug_assert!(!self.assembly_stale, "Model::pattern before prepare");
         self.assembly.symbolic()
     }
 
     fn shared_pattern(&self) -> Option<std::sync::Arc<faer::sparse::SymbolicSparseColMat<usize>>> {
+        debug_assert!(!self.assembly_stale, "Model::shared_pattern before prepare");
         Some(self.assembly.shared_pattern())
     }
 
@@ -1370,9 +1407,10 @@ impl NonlinearProblem for Model {
             c.prepare(&self.state, needs)?;
             let widened = c.update_band();
             if c.cover_active(false) || widened {
-                self.rebuild_assembly();
+                self.mark_assembly_stale();
             }
         }
+        self.ensure_assembly();
         Ok(())
     }
 
@@ -1389,6 +1427,7 @@ impl NonlinearProblem for Model {
     }
 
     fn assemble(&mut self, mut values: Option<&mut [f64]>, residual: &mut [f64]) -> Result<()> {
+        self.ensure_assembly();
         self.restore_quadrature();
         self.assemble_all(values.as_deref_mut(), residual)?;
         if let Some(v) = values {

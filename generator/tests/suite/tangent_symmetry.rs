@@ -306,3 +306,31 @@ fn released_caches_come_back_the_same() {
         "mechanical phase after a thermal one"
     );
 }
+
+/// Changes of equations before the next preparation build the assembly once,
+/// when it is needed, and the same as one built at each change: a mechanical
+/// phase switched to the thermal one and back without being prepared builds
+/// nothing (it keeps its own), and its tangent is its twin's to the bit; the
+/// thermal phase builds its own at its preparation.
+#[test]
+fn an_assembly_out_of_date_is_built_once_when_needed() {
+    let c = case(2, LateralCondition::Periodic, TopLateral::Fixed);
+    let (mut model, mut twin) = (mechanical(&c, 1.0e4), mechanical(&c, 1.0e4));
+    let before = model.assembly_builds();
+    assert!(before >= 1);
+    model.set_coupling(Coupling::Thermal).unwrap();
+    model.set_coupling(Coupling::Mechanical).unwrap();
+    assert_eq!(
+        model.assembly_builds(),
+        before,
+        "built before it was needed"
+    );
+    assert!(
+        tangent(&mut model) == tangent(&mut twin),
+        "mechanical phase after an unprepared change of phase"
+    );
+    assert_eq!(model.assembly_builds(), before, "its own assembly reused");
+    model.set_coupling(Coupling::Thermal).unwrap();
+    model.prepare().unwrap();
+    assert_eq!(model.assembly_builds(), before + 1, "the thermal phase's");
+}
