@@ -221,8 +221,8 @@ pub struct Newton {
 /// factor entries per equation) factorized every increment in double
 /// precision: at 72 kPa six factorizations of 2.2–2.9 s; with GMRES first
 /// (and [`crate::solve::linear::PARALLEL_FACTORIZATION_MIN_ENTRIES`]) three of
-/// 0.9–2.1 s in single precision, the level's solves 15.2 → 5.7 s and its
-/// jump the same to 1e-14 (docs/3d.md, "Stop 42").
+/// 0.9–1.1 s in single precision and three GMRES solves, the level's solves
+/// 15.2 → 5.7 s and its jump the same to 1e-14 (docs/3d.md, "Stop 42").
 pub const KRYLOV_MIN_EQ: usize = 5_000;
 
 /// ... and whose symmetric factors hold at least this many entries per
