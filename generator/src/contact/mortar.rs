@@ -1141,6 +1141,28 @@ impl ContactInterface {
         changed
     }
 
+    /// The slave nodes the pattern couples ([`ContactInterface::cover_active`]).
+    pub fn coverage(&self) -> &[bool] {
+        &self.coupled
+    }
+
+    /// Couples the slave nodes of `coverage` (another pattern's), where they
+    /// include every node coupled now: the pattern then equals that one's.
+    /// `true` if the pattern changed.
+    pub fn cover_at_least(&mut self, coverage: &[bool]) -> bool {
+        let includes = coverage.len() == self.coupled.len()
+            && self
+                .coupled
+                .iter()
+                .zip(coverage)
+                .all(|(&now, &c)| c || !now);
+        if !includes || coverage == self.coupled.as_slice() {
+            return false;
+        }
+        self.coupled.copy_from_slice(coverage);
+        true
+    }
+
     /// Unknowns `(node, field)` of the contact element of slave node `i`
     /// (multipliers not included), in a fixed order: the fields of the
     /// phase's `unknowns` only (the terms in the others are not assembled);

@@ -463,6 +463,7 @@ impl ModelBuilder {
             dofs: DofMapBuilder::new(0, 1).build()?,
             assembly: Assembly::new(0, Vec::new()),
             assembly_coupling: coupling,
+            assembly_coverage: Vec::new(),
             assembly_stale: false,
             assembly_builds: 0,
             kept_assembly: None,
@@ -520,6 +521,9 @@ pub struct Model {
     assembly: Assembly,
     /// The phase `assembly` was built for.
     assembly_coupling: Coupling,
+    /// The slave nodes its contact elements couple
+    /// ([`ContactInterface::cover_active`]).
+    assembly_coverage: Vec<bool>,
     /// Whether `assembly` is out of date (new equations or contact
     /// pattern): rebuilt at the next [`NonlinearProblem::prepare`] or
     /// assembly ([`Model::ensure_assembly`]), once for any number of changes
@@ -527,9 +531,10 @@ pub struct Model {
     assembly_stale: bool,
     /// Assemblies built so far ([`Model::assembly_builds`]).
     assembly_builds: usize,
-    /// The last assembly of another phase, reused when the phases alternate
-    /// (the self-consistent iterations) on an unchanged pattern.
-    kept_assembly: Option<(Coupling, Assembly)>,
+    /// The last assembly of another phase, with the slave nodes it couples,
+    /// reused when the phases alternate (the self-consistent iterations) on
+    /// an unchanged pattern ([`Model::set_coupling`]).
+    kept_assembly: Option<(Coupling, Assembly, Vec<bool>)>,
     elements: Vec<(usize, usize)>,
     eq_class: Vec<usize>,
     eq_coords: Vec<[f64; 3]>,
@@ -887,24 +892,32 @@ impl Model {
         // either is this pattern; one of another phase is kept.
         let previous = std::mem::replace(&mut self.assembly, Assembly::new(0, Vec::new()));
         let mut candidates = [
-            Some((self.assembly_coupling, previous)),
+            Some((
+                self.assembly_coupling,
+                previous,
+                std::mem::take(&mut self.assembly_coverage),
+            )),
             self.kept_assembly.take(),
         ];
         let found = candidates
             .iter_mut()
-            .find_map(|c| c.take_if(|(_, a)| a.describes(n_eq, &element_eqs)));
+            .find_map(|c| c.take_if(|(_, a, _)| a.describes(n_eq, &element_eqs)));
         self.assembly = match found {
-            Some((_, a)) => a,
+            Some((_, a, _)) => a,
             None => {
                 self.assembly_builds += 1;
                 Assembly::new(n_eq, element_eqs)
             }
         };
         self.assembly_coupling = self.coupling;
+        self.assembly_coverage = self
+            .contact
+            .as_ref()
+            .map_or_else(Vec::new, |c| c.coverage().to_vec());
         self.kept_assembly = candidates
             .into_iter()
             .flatten()
-            .find(|(c, _)| *c != self.coupling);
+            .find(|(c, _, _)| *c != self.coupling);
         self.pattern_version += 1;
     }
 
@@ -929,6 +942,19 @@ impl Model {
         }
         if let Some(c) = self.contact.as_mut() {
             c.cover_active(true);
+            // The kept assembly of this phase, where it couples every node
+            // the reset does: its pattern holds this one's (the Newton
+            // iterations of its phase grew it), and reusing it saves its
+            // rebuild (the mechanical one of the 72 kPa egg box's level 4,
+            // 57 M entries: 3.2 s per self-consistency iteration; docs/3d.md,
+            // "Stop 43").
+            if let Some((_, _, coverage)) = self
+                .kept_assembly
+                .as_ref()
+                .filter(|(kept, _, _)| *kept == coupling)
+            {
+                c.cover_at_least(coverage);
+            }
         }
         self.coupling = coupling;
         self.initial = self.state.clone();

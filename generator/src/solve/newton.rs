@@ -485,6 +485,35 @@ impl Newton {
         step: usize,
         load_factor: f64,
     ) -> Result<Vec<IterationRecord>> {
+        self.iterate_up_to(p, step, load_factor, None)
+            .map(|(history, _)| history)
+    }
+
+    /// At most `increments` Newton increments at the problem's full load
+    /// (load factor 1 of its path), fewer where the residual converges
+    /// first; an increment left short is not an error. A predictor whose
+    /// state only steers an outer iteration (the first self-consistency
+    /// iteration's mechanical phase, `homogenize::path`). Returns the
+    /// increments made.
+    pub fn increments<P: NonlinearProblem + ?Sized>(
+        &mut self,
+        p: &mut P,
+        increments: usize,
+    ) -> Result<usize> {
+        p.set_load(1.0);
+        let (history, converged) = self.iterate_up_to(p, 0, 1.0, Some(increments))?;
+        Ok(history.len() - usize::from(converged))
+    }
+
+    /// [`Newton::iterate`], stopped after `increments` increments if given;
+    /// also returns whether the residual converged.
+    fn iterate_up_to<P: NonlinearProblem + ?Sized>(
+        &mut self,
+        p: &mut P,
+        step: usize,
+        load_factor: f64,
+        increments: Option<usize>,
+    ) -> Result<(Vec<IterationRecord>, bool)> {
         let n = p.n_eq();
         let mut r = vec![0.0; n];
         let mut history = Vec::new();
@@ -504,6 +533,9 @@ impl Newton {
         };
         let trace = std::env::var_os("TCGEN_TRACE").is_some();
         for it in 0..=self.settings.max_iterations {
+            if increments.is_some_and(|m| it >= m) {
+                return Ok((history, false));
+            }
             let clock = std::time::Instant::now();
             p.prepare()?;
             let version = p.pattern_version();
@@ -543,7 +575,7 @@ impl Newton {
                     .max(self.settings.relative_tolerance * r0)
             });
             if converged {
-                return Ok(history);
+                return Ok((history, true));
             }
             if it == self.settings.max_iterations {
                 break;
@@ -1054,6 +1086,35 @@ mod tests {
     /// Increments solved by GMRES preconditioned by the first iteration's
     /// factorization reach the solution of the factorized Newton iterations
     /// (to the tolerance), with one factorization per load step at most.
+    /// `increments` makes the increments it is given, leaves the state where
+    /// they end without an error, and goes on from there to the solution
+    /// that a full solve reaches, stopping where the residual has converged.
+    #[test]
+    fn a_limited_number_of_increments_leaves_the_state_between() {
+        let full = {
+            let mut p = Chain::new(20);
+            p.set_load(1.0);
+            let mut newton = Newton::new(NewtonSettings::default(), LoadStepping::default());
+            let iterations = newton.iterate(&mut p, 0, 1.0).unwrap().len() - 1;
+            assert!(iterations >= 4, "nonlinear: {iterations} iterations");
+            (p.x, iterations)
+        };
+        let mut p = Chain::new(20);
+        let mut newton = Newton::new(NewtonSettings::default(), LoadStepping::default());
+        assert_eq!(newton.increments(&mut p, 1).unwrap(), 1);
+        let mut r = vec![0.0; 20];
+        p.assemble(None, &mut r).unwrap();
+        let norm = r.iter().map(|v| v * v).sum::<f64>().sqrt();
+        assert!(norm > 1e-3, "one increment does not converge: {norm:e}");
+        // The second call's convergence is relative to its own first
+        // residual (here the larger one of the first increment's overshoot).
+        let rest = newton.increments(&mut p, 100).unwrap();
+        assert!(rest >= 1 && rest < full.1, "{rest} more of {}", full.1);
+        for (a, b) in p.x.iter().zip(&full.0) {
+            assert!((a - b).abs() <= 1e-9 * b.abs(), "{a} against {b}");
+        }
+    }
+
     #[test]
     fn preconditioned_gmres_increments_reach_the_factorized_solution() {
         let stepping = LoadStepping {

@@ -435,3 +435,62 @@ fn self_consistency_stops_at_a_share_of_the_estimate_and_reports_it() {
         sc.self_consistency_iterations
     );
 }
+
+/// The first self-consistency iteration of the secant update solves its
+/// mechanical phase with one Newton increment only
+/// ([`tcgen::homogenize::path::PREDICTOR_INCREMENTS`]), and the iterations
+/// end on a mechanical phase solved to convergence:
+/// - where the predictor's output meets the tolerance (here 0.5, at the
+///   path's first pressure, where the first input is the plain jump for
+///   both updates), the phase is solved to convergence at the same input:
+///   the jump is then the plain iteration's first output to round-off (the
+///   predictor's own output is 2e-5 K away on the 3D egg box at 72 kPa);
+/// - at a tight tolerance (1e-10) the secant's jumps along a path are the
+///   plain iteration's to 1e-8 (the mechanical phases converge to 1e-10 of
+///   their residuals), in fewer iterations.
+#[test]
+fn self_consistency_ends_on_a_converged_mechanical_phase() {
+    let loose = "[homogenization]\ntolerance = 0.5";
+    let secant = solve(&case("[1.0e4]", loose));
+    let plain = solve(&case(
+        "[1.0e4]",
+        &format!("{loose}\nacceleration = \"none\""),
+    ));
+    let (s, p) = (&secant[0], &plain[0]);
+    assert_eq!(
+        (s.self_consistency_iterations, p.self_consistency_iterations),
+        (2, 2)
+    );
+    let difference = ((s.jump - p.jump) / p.jump).abs();
+    println!(
+        "first iteration: {} K against {} K: {difference:.1e}",
+        s.jump, p.jump
+    );
+    assert!(difference <= 1e-10, "{difference:e}");
+    let tight = "[homogenization]\ntolerance = 1.0e-10";
+    let pressures = "[3.0e2, 1.0e4, 1.0e5]";
+    let secant = solve(&case(pressures, tight));
+    let plain = solve(&case(
+        pressures,
+        &format!("{tight}\nacceleration = \"none\"\nmax_iterations = 60"),
+    ));
+    for (s, p) in secant.iter().zip(&plain) {
+        assert!(
+            s.converged && p.converged,
+            "{:?} / {:?}",
+            s.status,
+            p.status
+        );
+        let difference = ((s.jump - p.jump) / p.jump).abs();
+        println!(
+            "{} Pa: jump {} K ({} iterations) against {} K ({}): {difference:.1e}",
+            s.pressure,
+            s.jump,
+            s.self_consistency_iterations,
+            p.jump,
+            p.self_consistency_iterations
+        );
+        assert!(difference <= 1e-8, "{difference:e}");
+        assert!(s.self_consistency_iterations < p.self_consistency_iterations);
+    }
+}

@@ -334,3 +334,45 @@ fn an_assembly_out_of_date_is_built_once_when_needed() {
     model.prepare().unwrap();
     assert_eq!(model.assembly_builds(), before + 1, "the thermal phase's");
 }
+
+/// The self-consistent iterations alternate the phases: back from a thermal
+/// phase, the mechanical phase reuses its own kept assembly although the
+/// change of phase reset the contact pattern to the nodes in contact and
+/// their neighbours, where its Newton iterations had grown that pattern
+/// past the reset one (here by unloading from 100 to 3 kPa: the pattern
+/// keeps the nodes that left the contact;
+/// [`tcgen::contact::ContactInterface::cover_at_least`]); its tangent is
+/// its twin's to the bit.
+#[test]
+fn a_mechanical_phase_after_a_thermal_one_reuses_its_assembly() {
+    let c = case(2, LateralCondition::Periodic, TopLateral::Fixed);
+    let unloaded = || {
+        let mut m = mechanical(&c, 1.0e5);
+        m.set_path([1.0e5, 0.0], [3.0e3, 0.0]);
+        Newton::new(NewtonSettings::default(), LoadStepping::default())
+            .solve(&mut m)
+            .unwrap();
+        m
+    };
+    let (mut model, mut twin) = (unloaded(), unloaded());
+    let coverage = |m: &Model| m.contact.as_ref().unwrap().coverage().to_vec();
+    let grown = coverage(&model);
+    // The thermal phase on the mechanical state, as the two-phase solve runs it.
+    let saved = model.save();
+    thermal(&mut model, 3.0e3, 1.0e6);
+    let reset = coverage(&model);
+    assert!(
+        reset != grown && reset.iter().zip(&grown).all(|(&r, &g)| g || !r),
+        "the mechanical Newton iterations grew the pattern past the thermal phase's"
+    );
+    model.restore_materials();
+    model.restore(&saved);
+    let before = model.assembly_builds();
+    model.set_coupling(Coupling::Mechanical).unwrap();
+    assert_eq!(coverage(&model), grown);
+    assert!(
+        tangent(&mut model) == tangent(&mut twin),
+        "mechanical phase after a thermal one"
+    );
+    assert_eq!(model.assembly_builds(), before, "its kept assembly reused");
+}
