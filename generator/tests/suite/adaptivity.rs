@@ -444,7 +444,8 @@ fn self_consistency_stops_at_a_share_of_the_estimate_and_reports_it() {
 ///   path's first pressure, where the first input is the plain jump for
 ///   both updates), the phase is solved to convergence at the same input:
 ///   the jump is then the plain iteration's first output to round-off (the
-///   predictor's own output is 2e-5 K away on the 3D egg box at 72 kPa);
+///   predictor's own output is 1e-4 K away, 2e-5 of the jump, on the 3D
+///   egg box at 72 kPa);
 /// - at a tight tolerance (1e-10) the secant's jumps along a path are the
 ///   plain iteration's to 1e-8 (the mechanical phases converge to 1e-10 of
 ///   their residuals), in fewer iterations.
