@@ -21,7 +21,7 @@
 //! does not converge.
 
 use super::ordering::{
-    approximate_minimum_degree, factor_entries, inverse_permutation, is_permutation,
+    approximate_minimum_degree, fewest_entries_postordered, inverse_permutation, is_permutation,
     multipliers_after_neighbours, postordered,
 };
 use crate::{Error, Result};
@@ -111,6 +111,10 @@ pub enum Ordering {
     /// elimination tree, [`super::ordering::factor_entries`]; for LDLᵀ after the multiplier
     /// adjustment of both). Cholesky and LDLᵀ only.
     FewerEntries(Vec<usize>),
+    /// The permutation among these (at least one) that gives the factor the fewest entries
+    /// (the first on a tie; counted as for [`Ordering::FewerEntries`]). Cholesky and LDLᵀ
+    /// only.
+    Fewest(Vec<Vec<usize>>),
 }
 
 impl Ordering {
@@ -120,6 +124,7 @@ impl Ordering {
             Ordering::Default => "Default",
             Ordering::Custom(_) => "Custom",
             Ordering::FewerEntries(_) => "FewerEntries",
+            Ordering::Fewest(_) => "Fewest",
         }
     }
 }
@@ -259,9 +264,19 @@ impl LinearSolver {
             }),
             "LinearSolver::with_pattern: rows not sorted"
         );
-        if let Ordering::Custom(perm) | Ordering::FewerEntries(perm) = &ordering
-            && !is_permutation(perm, n)
-        {
+        let candidates: &[Vec<usize>] = match &ordering {
+            Ordering::Default => &[],
+            Ordering::Custom(perm) | Ordering::FewerEntries(perm) => std::slice::from_ref(perm),
+            Ordering::Fewest(perms) if perms.is_empty() => {
+                return Err(Error::invalid(
+                    "ordering",
+                    "Fewest(no candidate)",
+                    "at least one permutation",
+                ));
+            }
+            Ordering::Fewest(perms) => perms,
+        };
+        if let Some(perm) = candidates.iter().find(|perm| !is_permutation(perm, n)) {
             return Err(Error::invalid(
                 "ordering",
                 format!("{}(len {})", ordering.name(), perm.len()),
@@ -951,80 +966,44 @@ fn multiply_add(
 
 /// The permutation handed to faer's symbolic Cholesky (`None`: faer's AMD), postordered
 /// ([`postordered`]: the same fill, supernodes of consecutive columns). For LDLᵀ with
-/// multiplier rows, AMD is computed here and every −1 equation moved after its +1 neighbours.
+/// multiplier rows, every −1 equation is moved after its +1 neighbours (AMD computed here).
+/// Of several candidates ([`Ordering::FewerEntries`], [`Ordering::Fewest`]) the one whose
+/// factor has the fewest entries, after that adjustment.
 fn symmetric_permutation(
-    pattern: SymbolicSparseColMatRef<'_, usize>,
-    kind: &Factorization,
-    ordering: Ordering,
-) -> Result<Option<Vec<usize>>> {
-    Ok(elimination_order(pattern, kind, ordering)?.map(|perm| postordered(pattern, perm)))
-}
-
-/// [`symmetric_permutation`] before the postorder.
-fn elimination_order(
     pattern: SymbolicSparseColMatRef<'_, usize>,
     kind: &Factorization,
     ordering: Ordering,
 ) -> Result<Option<Vec<usize>>> {
     let n = pattern.ncols();
     let signs = match kind {
-        Factorization::Ldlt { signs } => signs,
-        _ => {
-            return Ok(match ordering {
-                Ordering::Default => None,
-                Ordering::Custom(perm) => Some(perm),
-                Ordering::FewerEntries(perm) => Some(fewer_entries(
-                    pattern,
-                    perm,
-                    approximate_minimum_degree(pattern),
-                )),
-            });
+        Factorization::Ldlt { signs } => {
+            if signs.len() != n || signs.iter().any(|s| !(-1..=1).contains(s)) {
+                return Err(Error::invalid(
+                    "signs",
+                    format!("{} entries", signs.len()),
+                    format!("{n} entries, each −1, 0 or +1"),
+                ));
+            }
+            Some(signs).filter(|s| s.contains(&-1))
         }
+        _ => None,
     };
-    if signs.len() != n || signs.iter().any(|s| !(-1..=1).contains(s)) {
-        return Err(Error::invalid(
-            "signs",
-            format!("{} entries", signs.len()),
-            format!("{n} entries, each −1, 0 or +1"),
-        ));
-    }
-    Ok(match ordering {
-        Ordering::Default if !signs.contains(&-1) => None,
-        Ordering::Default => Some(multipliers_after_neighbours(
-            pattern,
-            approximate_minimum_degree(pattern),
-            signs,
-        )),
-        Ordering::Custom(perm) if !signs.contains(&-1) => Some(perm),
-        Ordering::Custom(perm) => Some(multipliers_after_neighbours(pattern, perm, signs)),
-        Ordering::FewerEntries(perm) => {
-            let adjusted = |perm: Vec<usize>| {
-                if signs.contains(&-1) {
-                    multipliers_after_neighbours(pattern, perm, signs)
-                } else {
-                    perm
-                }
-            };
-            Some(fewer_entries(
-                pattern,
-                adjusted(perm),
-                adjusted(approximate_minimum_degree(pattern)),
-            ))
-        }
-    })
-}
-
-/// Of two elimination orders, the one whose Cholesky factor has fewer entries (`a` on a tie).
-fn fewer_entries(
-    pattern: SymbolicSparseColMatRef<'_, usize>,
-    a: Vec<usize>,
-    b: Vec<usize>,
-) -> Vec<usize> {
-    if factor_entries(pattern, &b) < factor_entries(pattern, &a) {
-        b
-    } else {
-        a
-    }
+    let adjusted = |perm: Vec<usize>| match signs {
+        Some(signs) => multipliers_after_neighbours(pattern, perm, signs),
+        None => perm,
+    };
+    let candidates = match ordering {
+        Ordering::Default if signs.is_none() => return Ok(None),
+        Ordering::Default => vec![approximate_minimum_degree(pattern)],
+        Ordering::Custom(perm) => vec![perm],
+        Ordering::FewerEntries(perm) => vec![perm, approximate_minimum_degree(pattern)],
+        Ordering::Fewest(perms) => perms,
+    };
+    let mut candidates: Vec<Vec<usize>> = candidates.into_iter().map(adjusted).collect();
+    Ok(Some(match candidates.len() {
+        1 => postordered(pattern, candidates.remove(0)),
+        _ => fewest_entries_postordered(pattern, candidates),
+    }))
 }
 
 /// A standard-form (sorted, no `col_nnz`) owned copy of `pattern`.

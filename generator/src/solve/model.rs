@@ -23,7 +23,7 @@ use crate::quadrature::default_bulk_points;
 use crate::solve::dofs::{DofMap, DofMapBuilder};
 use crate::solve::linear::{Factorization, Ordering};
 use crate::solve::newton::NonlinearProblem;
-use crate::solve::ordering::nested_dissection;
+use crate::solve::ordering::node_orders;
 use crate::solve::scales::Scales;
 use crate::{Error, Result};
 
@@ -1412,16 +1412,15 @@ impl NonlinearProblem for Model {
 
     /// For Cholesky and LDLᵀ, METIS's nested dissection of the nodes (the
     /// equations grouped by their reference coordinates, a multiplier at its
-    /// slave node) or AMD, whichever gives the factor fewer entries; COLAMD
+    /// slave node) or AMD (of the nodes too from 20 000 equations,
+    /// [`node_orders`]), whichever gives the factor fewer entries; COLAMD
     /// for LU. On the adaptive 3D egg box the nested dissection's factor is
     /// 31 % (level 3) and 36 % (level 4) smaller than AMD's (docs/3d.md,
     /// "Stop 40").
     fn ordering(&self, kind: &Factorization) -> Ordering {
         match kind {
             Factorization::Lu => Ordering::Default,
-            _ => {
-                Ordering::FewerEntries(nested_dissection(self.assembly.symbolic(), &self.eq_coords))
-            }
+            _ => Ordering::Fewest(node_orders(self.assembly.symbolic(), &self.eq_coords)),
         }
     }
 
