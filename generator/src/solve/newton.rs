@@ -1083,9 +1083,6 @@ mod tests {
         }
     }
 
-    /// Increments solved by GMRES preconditioned by the first iteration's
-    /// factorization reach the solution of the factorized Newton iterations
-    /// (to the tolerance), with one factorization per load step at most.
     /// `increments` makes the increments it is given, leaves the state where
     /// they end without an error, and goes on from there to the solution
     /// that a full solve reaches, stopping where the residual has converged.
@@ -1115,6 +1112,9 @@ mod tests {
         }
     }
 
+    /// Increments solved by GMRES preconditioned by the first iteration's
+    /// factorization reach the solution of the factorized Newton iterations
+    /// (to the tolerance), with one factorization per load step at most.
     #[test]
     fn preconditioned_gmres_increments_reach_the_factorized_solution() {
         let stepping = LoadStepping {
