@@ -1148,19 +1148,16 @@ impl ContactInterface {
 
     /// Couples the slave nodes of `coverage` (another pattern's), where they
     /// include every node coupled now: the pattern then equals that one's.
-    /// `true` if the pattern changed.
-    pub fn cover_at_least(&mut self, coverage: &[bool]) -> bool {
+    pub fn cover_at_least(&mut self, coverage: &[bool]) {
         let includes = coverage.len() == self.coupled.len()
             && self
                 .coupled
                 .iter()
                 .zip(coverage)
                 .all(|(&now, &c)| c || !now);
-        if !includes || coverage == self.coupled.as_slice() {
-            return false;
+        if includes {
+            self.coupled.copy_from_slice(coverage);
         }
-        self.coupled.copy_from_slice(coverage);
-        true
     }
 
     /// Unknowns `(node, field)` of the contact element of slave node `i`

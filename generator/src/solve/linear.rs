@@ -22,7 +22,7 @@
 
 use super::ordering::{
     approximate_minimum_degree, fewest_entries_postordered, inverse_permutation, is_permutation,
-    multipliers_after_neighbours, postordered,
+    multipliers_after_neighbours,
 };
 use crate::{Error, Result};
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
@@ -965,7 +965,7 @@ fn multiply_add(
 }
 
 /// The permutation handed to faer's symbolic Cholesky (`None`: faer's AMD), postordered
-/// ([`postordered`]: the same fill, supernodes of consecutive columns). For LDLᵀ with
+/// ([`super::ordering::postordered`]: the same fill, supernodes of consecutive columns). For LDLᵀ with
 /// multiplier rows, every −1 equation is moved after its +1 neighbours (AMD computed here).
 /// Of several candidates ([`Ordering::FewerEntries`], [`Ordering::Fewest`]) the one whose
 /// factor has the fewest entries, after that adjustment.
@@ -999,11 +999,8 @@ fn symmetric_permutation(
         Ordering::FewerEntries(perm) => vec![perm, approximate_minimum_degree(pattern)],
         Ordering::Fewest(perms) => perms,
     };
-    let mut candidates: Vec<Vec<usize>> = candidates.into_iter().map(adjusted).collect();
-    Ok(Some(match candidates.len() {
-        1 => postordered(pattern, candidates.remove(0)),
-        _ => fewest_entries_postordered(pattern, candidates),
-    }))
+    let candidates = candidates.into_iter().map(adjusted).collect();
+    Ok(Some(fewest_entries_postordered(pattern, candidates)))
 }
 
 /// A standard-form (sorted, no `col_nnz`) owned copy of `pattern`.

@@ -33,7 +33,7 @@ pub fn nested_dissection(
     pattern: SymbolicSparseColMatRef<'_, usize>,
     coords: &[[f64; 3]],
 ) -> Vec<usize> {
-    node_order(pattern, coords, NodeGraph::metis_order)
+    node_order(pattern, coords, |graph| vec![graph.metis_order()]).remove(0)
 }
 
 /// Systems from this many equations take AMD's order of their nodes' graph
@@ -44,7 +44,8 @@ pub const NODE_AMD_MIN_EQUATIONS: usize = 20_000;
 /// The candidate orders of a system whose equations sit at nodes (`coords`): METIS's nested
 /// dissection of the nodes ([`nested_dissection`]) and an AMD order (of the nodes from
 /// [`NODE_AMD_MIN_EQUATIONS`] equations, else of the equations), for
-/// [`super::linear::Ordering::Fewest`].
+/// [`super::linear::Ordering::Fewest`]; the nodes' graph is built once for both. One
+/// candidate, AMD's of the equations, where that graph cannot be built.
 ///
 /// Panics if `pattern` is not square or `coords.len()` differs from its dimension.
 #[track_caller]
@@ -52,12 +53,11 @@ pub fn node_orders(
     pattern: SymbolicSparseColMatRef<'_, usize>,
     coords: &[[f64; 3]],
 ) -> Vec<Vec<usize>> {
-    let amd = if pattern.ncols() >= NODE_AMD_MIN_EQUATIONS {
-        node_minimum_degree(pattern, coords)
-    } else {
-        approximate_minimum_degree(pattern)
-    };
-    vec![nested_dissection(pattern, coords), amd]
+    let of_nodes = pattern.ncols() >= NODE_AMD_MIN_EQUATIONS;
+    node_order(pattern, coords, |graph| {
+        let amd = of_nodes.then(|| graph.amd_order());
+        vec![graph.metis_order(), amd]
+    })
 }
 
 /// AMD's order of the graph of the nodes (as [`nested_dissection`] groups the equations),
@@ -72,17 +72,18 @@ pub fn node_minimum_degree(
     pattern: SymbolicSparseColMatRef<'_, usize>,
     coords: &[[f64; 3]],
 ) -> Vec<usize> {
-    node_order(pattern, coords, |graph| Some(graph.amd_order()))
+    node_order(pattern, coords, |graph| vec![Some(graph.amd_order())]).remove(0)
 }
 
-/// The equations in the order `order` gives the nodes of their graph, or AMD's order of the
-/// equations where the graph cannot be built or `order` fails.
+/// The equations in each of the orders `orders` gives the nodes of their graph, each node's
+/// equations consecutive; AMD's order of the equations for an order that is `None`, and
+/// alone where the graph cannot be built.
 #[track_caller]
 fn node_order(
     pattern: SymbolicSparseColMatRef<'_, usize>,
     coords: &[[f64; 3]],
-    order: impl FnOnce(NodeGraph) -> Option<Vec<usize>>,
-) -> Vec<usize> {
+    orders: impl FnOnce(NodeGraph) -> Vec<Option<Vec<usize>>>,
+) -> Vec<Vec<usize>> {
     let n = pattern.ncols();
     assert_eq!(
         pattern.nrows(),
@@ -95,17 +96,26 @@ fn node_order(
         "node orders: one coordinate triple per equation"
     );
     let nodes = EquationNodes::new(coords);
-    let perm = NodeGraph::new(pattern, &nodes)
-        .and_then(order)
-        .map(|node_order| {
-            node_order
-                .into_iter()
-                .flat_map(|a| nodes.equations(a).iter().copied())
-                .collect()
-        })
-        .unwrap_or_else(|| approximate_minimum_degree(pattern));
-    debug_assert!(is_permutation(&perm, n));
-    perm
+    let mut amd = None;
+    let mut equation_amd = || {
+        amd.get_or_insert_with(|| approximate_minimum_degree(pattern))
+            .clone()
+    };
+    let perms: Vec<Vec<usize>> = match NodeGraph::new(pattern, &nodes) {
+        None => vec![equation_amd()],
+        Some(graph) => orders(graph)
+            .into_iter()
+            .map(|order| match order {
+                Some(node_order) => node_order
+                    .into_iter()
+                    .flat_map(|a| nodes.equations(a).iter().copied())
+                    .collect(),
+                None => equation_amd(),
+            })
+            .collect(),
+    };
+    debug_assert!(perms.iter().all(|perm| is_permutation(perm, n)));
+    perms
 }
 
 /// Separators METIS computes at each bisection, keeping the smallest (`METIS_OPTION_NSEPS`; the
@@ -230,7 +240,7 @@ impl NodeGraph {
     }
 
     /// faer's AMD order of the nodes (`perm[new] = old`).
-    fn amd_order(self) -> Vec<usize> {
+    fn amd_order(&self) -> Vec<usize> {
         let m = self.weights.len();
         let col_ptr: Vec<usize> = self.xadj.iter().map(|&k| k as usize).collect();
         let row_idx: Vec<usize> = self.adjncy.iter().map(|&b| b as usize).collect();
