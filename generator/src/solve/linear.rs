@@ -192,7 +192,8 @@ pub struct LinearSolver {
     /// Sorted within columns, no `col_nnz`; shared with the assembly where it came from one.
     pattern: Arc<SymbolicSparseColMat<usize>>,
     factors: Factors,
-    /// The last factorized matrix values, for iterative refinement.
+    /// The last factorized matrix values, for iterative refinement (empty once released,
+    /// [`Self::release_matrix`]).
     values: Vec<f64>,
     /// ‖A‖∞ of the last factorized matrix.
     norm_inf: f64,
@@ -219,7 +220,7 @@ impl std::fmt::Debug for LinearSolver {
         f.debug_struct("LinearSolver")
             .field("kind", &self.kind)
             .field("n_eq", &self.n_eq())
-            .field("nnz", &self.values.len())
+            .field("nnz", &self.nnz())
             .field("factor_nnz", &self.factor_nnz())
             .field("factorized", &self.factorized)
             .field("fallback", &self.fallback)
@@ -329,12 +330,11 @@ impl LinearSolver {
                 }
             }
         };
-        let nnz = pattern.row_idx().len();
         Ok(Self {
             kind,
             pattern,
             factors,
-            values: vec![0.0; nnz],
+            values: Vec::new(),
             norm_inf: 0.0,
             factorized: false,
             workspace: None,
@@ -380,7 +380,7 @@ impl LinearSolver {
     pub fn factorize(&mut self, values: &[f64]) -> Result<()> {
         assert_eq!(
             values.len(),
-            self.values.len(),
+            self.nnz(),
             "factorize: one value per pattern entry"
         );
         self.factorized = false;
@@ -392,9 +392,53 @@ impl LinearSolver {
                 values[i]
             )));
         }
-        self.values.copy_from_slice(values);
+        if self.values.len() == values.len() {
+            self.values.copy_from_slice(values);
+        } else {
+            self.values = values.to_vec();
+        }
         self.norm_inf = row_sum_norm(self.pattern_ref(), values);
         self.factorize_kept()
+    }
+
+    /// [`Self::factorize`] of `values`, which the solver keeps without a copy (a
+    /// Newton tangent that is not needed after its factorization: the 3D
+    /// systems' matrices hold hundreds of MB).
+    #[track_caller]
+    pub fn factorize_owned(&mut self, values: Vec<f64>) -> Result<()> {
+        assert_eq!(
+            values.len(),
+            self.nnz(),
+            "factorize: one value per pattern entry"
+        );
+        if values.iter().any(|v| !v.is_finite()) {
+            return self.factorize(&values);
+        }
+        self.values = values;
+        self.factorized = false;
+        self.norm_inf = row_sum_norm(self.pattern_ref(), &self.values);
+        self.factorize_kept()
+    }
+
+    /// Frees what the solver keeps only to solve its last factorized matrix
+    /// again ([`Self::solve_in_place`]) and to factorize the next one faster:
+    /// the matrix values and the factorization workspace (its fallback LU's
+    /// too). The factors stay and precondition [`Self::solve_preconditioned_on`];
+    /// [`Self::solve_in_place`] fails until the next factorization. On the 3D
+    /// egg box's fourth level at 132 kPa the mechanical matrix alone holds
+    /// 580 MB, which were kept through the thermal phase and the
+    /// self-consistent iterations (docs/3d.md, "Stop 44").
+    pub fn release_matrix(&mut self) {
+        self.values = Vec::new();
+        self.workspace = None;
+        if let Some(lu) = self.lu.as_mut() {
+            lu.release_matrix();
+        }
+    }
+
+    /// Entries of the analysed pattern.
+    fn nnz(&self) -> usize {
+        self.pattern.row_idx().len()
     }
 
     /// [`Self::factorize`] of the kept values.
@@ -574,6 +618,11 @@ impl LinearSolver {
                 "solve called without a successful factorization".into(),
             ));
         }
+        if self.values.len() != self.nnz() {
+            return Err(Error::LinearSolver(
+                "solve called after the factorized matrix was released".into(),
+            ));
+        }
         if self.fallback.is_some() {
             let lu = self.lu.as_mut().expect("a fallback has its LU");
             return lu.solve_in_place(rhs);
@@ -667,21 +716,31 @@ impl LinearSolver {
         rhs: &mut [f64],
         max_iterations: usize,
     ) -> Result<Option<usize>> {
-        self.solve_preconditioned_on(self.pattern_ref(), values, rhs, max_iterations)
+        self.solve_preconditioned_on(
+            self.pattern_ref(),
+            values,
+            rhs,
+            max_iterations,
+            KRYLOV_TOLERANCE,
+        )
     }
 
     /// [`Self::solve_preconditioned`] of a matrix on another `pattern` of the same equations
     /// (the same unknowns in the same order): the tangent of a new contact pattern
     /// preconditioned by the factors of the previous one (a self-consistent iteration's
-    /// mechanical phase after the active set changed). Panics unless `pattern` has
-    /// [`Self::n_eq`] rows and columns and `values` one entry per pattern entry.
+    /// mechanical phase after the active set changed), to ‖b − A x‖₂ ≤ `tolerance` ‖b‖₂
+    /// (at least [`KRYLOV_TOLERANCE`]; a Newton increment needs less,
+    /// `solve::newton::forcing_term`). Panics unless `pattern` has [`Self::n_eq`] rows and
+    /// columns and `values` one entry per pattern entry.
     pub fn solve_preconditioned_on(
         &self,
         pattern: SymbolicSparseColMatRef<'_, usize>,
         values: &[f64],
         rhs: &mut [f64],
         max_iterations: usize,
+        tolerance: f64,
     ) -> Result<Option<usize>> {
+        let tolerance = tolerance.max(KRYLOV_TOLERANCE);
         let n = self.n_eq();
         assert!(
             pattern.nrows() == n && pattern.ncols() == n,
@@ -756,7 +815,7 @@ impl LinearSolver {
             g[steps] *= cs[steps];
             h.push(column);
             steps += 1;
-            if g[steps].abs() <= 0.1 * KRYLOV_TOLERANCE * norm_b || norm_w == 0.0 {
+            if g[steps].abs() <= 0.1 * tolerance * norm_b || norm_w == 0.0 {
                 break;
             }
             basis.push(w.iter().map(|v| v / norm_w).collect());
@@ -778,7 +837,7 @@ impl LinearSolver {
             .map(|(a, b)| (b - a) * (b - a))
             .sum::<f64>()
             .sqrt();
-        let accurate = residual <= KRYLOV_TOLERANCE * norm_b;
+        let accurate = residual <= tolerance * norm_b;
         if !accurate || x.iter().any(|v| !v.is_finite()) {
             return Ok(None);
         }
@@ -847,7 +906,8 @@ impl LinearSolver {
             .as_ref()
             .map_or(0, |(r, _)| r.unaligned_bytes_required());
         factor
-            + self.values.len() * (f + u)
+            + self.values.len() * f
+            + self.nnz() * u
             + (self.n_eq() + 1) * u
             + workspace
             + self.lu.as_ref().map_or(0, |lu| lu.storage_bytes())
