@@ -198,6 +198,16 @@ impl Assembly {
         }
     }
 
+    /// Bytes held: the pattern (shared with the solvers that factorize it), the element-to-equation
+    /// maps, the scatter map and the colors.
+    pub fn storage_bytes(&self) -> usize {
+        let u = size_of::<usize>();
+        (self.pattern.row_idx().len() + self.pattern.col_ptr().len()) * u
+            + (self.dof_ptr.len() + self.dof_eq.len() + self.entry_ptr.len()) * u
+            + self.scatter_map_bytes()
+            + (self.color_ptr.len() + self.color_elements.len()) * u
+    }
+
     /// Number of element colors (parallel stages of one assembly).
     pub fn n_colors(&self) -> usize {
         self.color_ptr.len() - 1

@@ -108,6 +108,21 @@ pub struct Unknowns {
 }
 
 impl PointState {
+    /// Bytes held (the derivatives' vectors included).
+    pub fn storage_bytes(&self) -> usize {
+        let d = |d: &Derivatives| {
+            (d.grad.capacity() + d.hess.capacity()) * size_of::<f64>()
+                + d.factors
+                    .iter()
+                    .map(|(u, v)| (u.capacity() + v.capacity()) * size_of::<f64>() + 48)
+                    .sum::<usize>()
+        };
+        size_of::<Self>()
+            + self.master.capacity() * size_of::<usize>()
+            + d(&self.gap)
+            + d(&self.jump)
+    }
+
     /// The master face element the point projects onto.
     pub fn master_element(&self) -> usize {
         self.surface.map_or(self.projection.element, |s| s.element)

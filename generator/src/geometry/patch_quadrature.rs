@@ -29,6 +29,23 @@ pub struct ElementQuadrature {
     pub points: Vec<QuadPoint>,
 }
 
+impl ElementQuadrature {
+    /// Bytes held (the points' vectors included).
+    pub fn storage_bytes(&self) -> usize {
+        size_of::<Self>()
+            + self.conn.capacity() * size_of::<usize>()
+            + self
+                .points
+                .iter()
+                .map(|q| {
+                    size_of::<QuadPoint>()
+                        + q.r.capacity() * size_of::<f64>()
+                        + q.dr_dx.capacity() * size_of::<[f64; 3]>()
+                })
+                .sum::<usize>()
+    }
+}
+
 /// One face quadrature point.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FaceQuadPoint {

@@ -891,9 +891,9 @@ impl LinearSolver {
         }
     }
 
-    /// Bytes held: the factor values, the kept pattern and matrix, the factorization
-    /// workspace, and the fallback LU's pattern and matrix (faer does not expose the sizes of
-    /// the symbolic structures and of LU factors, which are not counted).
+    /// Bytes held: the factor values and the supernodal structure's indices, the kept pattern
+    /// and matrix, the factorization workspace, and the fallback LU's pattern and matrix (faer
+    /// does not expose the size of LU factors, which are not counted).
     pub fn storage_bytes(&self) -> usize {
         let f = std::mem::size_of::<f64>();
         let u = std::mem::size_of::<usize>();
@@ -901,11 +901,28 @@ impl LinearSolver {
             Factors::Lu { .. } => 0,
             Factors::Cholesky { l_values, .. } => l_values.bytes(),
         };
+        // The supernodal structure's index arrays (faer does not expose its row-major
+        // copy of the supernodes' graph, which is not counted).
+        let symbolic = match &self.factors {
+            Factors::Cholesky { symbolic, .. } => match symbolic.raw() {
+                SymbolicCholeskyRaw::Supernodal(s) => {
+                    (s.row_idx().len()
+                        + s.supernode_begin().len()
+                        + s.col_ptr_for_row_idx().len()
+                        + s.col_ptr_for_val().len()
+                        + 2 * self.n_eq())
+                        * u
+                }
+                SymbolicCholeskyRaw::Simplicial(_) => 2 * self.n_eq() * u,
+            },
+            Factors::Lu { .. } => 0,
+        };
         let workspace = self
             .workspace
             .as_ref()
             .map_or(0, |(r, _)| r.unaligned_bytes_required());
         factor
+            + symbolic
             + self.values.len() * f
             + self.nnz() * u
             + (self.n_eq() + 1) * u

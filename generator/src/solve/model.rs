@@ -1384,6 +1384,45 @@ impl NonlinearProblem for Model {
         self.pattern_version
     }
 
+    fn storage_report(&self) -> Option<String> {
+        let mb = |b: usize| b >> 20;
+        let quadrature: usize = self
+            .bodies
+            .iter()
+            .flat_map(|b| &b.quadrature)
+            .map(|q| q.storage_bytes())
+            .sum();
+        let kept = self
+            .kept_assembly
+            .as_ref()
+            .map_or(0, |(_, a, _)| a.storage_bytes());
+        let (points, point_states) = self.contact.as_ref().map_or((0, 0), |c| {
+            (
+                c.points
+                    .iter()
+                    .map(|p| {
+                        size_of_val(p)
+                            + (p.conn.capacity() + p.basis.capacity()) * size_of::<usize>()
+                    })
+                    .sum::<usize>(),
+                c.state.iter().map(|s| s.storage_bytes()).sum::<usize>(),
+            )
+        });
+        Some(format!(
+            "contact points {} MB, their states {} MB, bulk quadrature {} MB ({} elements), assembly {} MB (scatter map {} MB), other phase's assembly {} MB",
+            mb(points),
+            mb(point_states),
+            mb(quadrature),
+            self.bodies
+                .iter()
+                .map(|b| b.quadrature.len())
+                .sum::<usize>(),
+            mb(self.assembly.storage_bytes()),
+            mb(self.assembly.scatter_map_bytes()),
+            mb(kept)
+        ))
+    }
+
     fn numbering_version(&self) -> u64 {
         self.numberings
             .iter()

@@ -28,6 +28,10 @@ pub trait NonlinearProblem {
     fn pattern_version(&self) -> u64 {
         0
     }
+    /// What the problem holds, for the trace of a symbolic analysis (`TCGEN_TRACE`).
+    fn storage_report(&self) -> Option<String> {
+        None
+    }
     /// Identifies the current equations (which unknown each is, in order): while it stays, the
     /// factors of an earlier pattern may precondition the tangent of a new one. By default the
     /// pattern version (no reuse across patterns).
@@ -518,6 +522,13 @@ impl Newton {
                 solver.factor_nnz(),
                 solver.precision(),
                 super::resources::process_memory("VmRSS:").unwrap_or(0) >> 20
+            );
+            let kept: usize = self.solvers.iter().map(|k| k.solver.storage_bytes()).sum();
+            eprintln!(
+                "  analysis: this solver {} MB, the kept ones {} MB; {}",
+                solver.storage_bytes() >> 20,
+                kept >> 20,
+                p.storage_report().unwrap_or_default()
             );
         }
         self.analyses += 1;

@@ -189,6 +189,36 @@ fn geometry_is_exact_after_refinement() {
     assert!((area - exact).abs() < 1e-13, "area {area} vs {exact}");
 }
 
+/// Copies that move the control points only (the model's scaled geometry, a fitted
+/// surface) share the refined patch's basis and mesh instead of copying them, and
+/// evaluate their own points; the quadrature reports the bytes it holds.
+#[test]
+fn moved_copies_share_the_basis() {
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let thb = random_refinement(&ThbPatch::from_nurbs(&base(3, 2, 2)), 2, &mut rng);
+    let scaled = thb.map_points(|x| [2.0 * x[0], 2.0 * x[1], 2.0 * x[2]]);
+    let moved = thb.with_control_points(vec![[0.0; 3]; thb.n_control_points()]);
+    for copy in [&scaled, &moved] {
+        assert!(
+            std::ptr::eq(copy.thb_basis(), thb.thb_basis()),
+            "the basis is shared"
+        );
+        assert!(std::ptr::eq(copy.mesh(), thb.mesh()), "the mesh is shared");
+    }
+    let xi = random_xi(3, &mut rng);
+    let (a, b) = (thb.point(&xi), scaled.point(&xi));
+    for i in 0..3 {
+        assert!((2.0 * a[i] - b[i]).abs() < 1e-13, "{a:?} vs {b:?}");
+    }
+    let q = thb.element_quadrature(0, &[3]);
+    let functions = q.conn.len();
+    assert!(
+        q.storage_bytes() >= 27 * functions * 4 * size_of::<f64>(),
+        "{} bytes for 27 points of {functions} functions",
+        q.storage_bytes()
+    );
+}
+
 /// The prolongation (and its matrix) reproduces the coarse field.
 #[test]
 fn prolongation_is_exact() {

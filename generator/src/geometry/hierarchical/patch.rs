@@ -14,12 +14,17 @@ use crate::basis::{RationalBasis, TensorBasis, bspline_tensor_into, rationalize}
 use crate::geometry::patch_quadrature::{bulk_point, face_point, gauss_rules, tensor_points};
 use crate::geometry::{ElementQuadrature, FaceElementQuadrature, KnotVector, NurbsPatch, Side};
 use crate::quadrature::GaussLegendre;
+use std::sync::Arc;
 
 /// A rational THB-spline patch of 1 to 3 parametric directions, control points in 3D.
+/// The mesh and the basis are shared by the copies that move the control points only
+/// ([`ThbPatch::map_points`], [`ThbPatch::with_control_points`]): the 3D egg box's
+/// fourth-level basis holds 200 MB of extraction operators, which the fitted geometry and
+/// the model's scaled copy held twice (docs/3d.md, "Stop 44").
 #[derive(Clone, Debug)]
 pub struct ThbPatch {
-    mesh: HierarchicalMesh,
-    basis: ThbBasis,
+    mesh: Arc<HierarchicalMesh>,
+    basis: Arc<ThbBasis>,
     points: Vec<[f64; 3]>,
     weights: Vec<f64>,
 }
@@ -53,8 +58,8 @@ impl ThbPatch {
         let basis = ThbBasis::new(&mesh);
         debug_assert_eq!(basis.n_functions(), patch.n_control_points());
         ThbPatch {
-            mesh,
-            basis,
+            mesh: Arc::new(mesh),
+            basis: Arc::new(basis),
             points: patch.control_points().to_vec(),
             weights: patch.weights().to_vec(),
         }
@@ -93,8 +98,8 @@ impl ThbPatch {
         );
         let (points, weights) = cartesian(&h);
         ThbPatch {
-            mesh,
-            basis,
+            mesh: Arc::new(mesh),
+            basis: Arc::new(basis),
             points,
             weights,
         }
@@ -102,7 +107,7 @@ impl ThbPatch {
 
     /// A copy with the given cells refined (see [`HierarchicalMesh::refine`]).
     pub fn refined(&self, cells: &[Cell]) -> ThbPatch {
-        let mut mesh = self.mesh.clone();
+        let mut mesh = HierarchicalMesh::clone(&self.mesh);
         mesh.refine(cells);
         self.with_mesh(mesh)
     }
@@ -111,7 +116,7 @@ impl ThbPatch {
     /// are refined alike (see [`HierarchicalMesh::set_periodic`]), so the traces on the two
     /// opposite faces match one to one (periodic ties).
     pub fn periodic(&self, d: usize) -> ThbPatch {
-        let mut mesh = self.mesh.clone();
+        let mut mesh = HierarchicalMesh::clone(&self.mesh);
         mesh.set_periodic(d);
         self.with_mesh(mesh)
     }
@@ -120,7 +125,7 @@ impl ThbPatch {
     /// end: each round halves the elements touching the face; admissibility grades the
     /// mesh away from it.
     pub fn refined_at_face(&self, dir: usize, side: Side, levels: usize) -> ThbPatch {
-        let mut mesh = self.mesh.clone();
+        let mut mesh = HierarchicalMesh::clone(&self.mesh);
         let kv = &self.knots()[dir];
         for _ in 0..levels {
             mesh.refine_where(|_, lo, hi| match side {
@@ -210,8 +215,8 @@ impl ThbPatch {
     /// A copy with every control point mapped by `f` (weights and mesh unchanged).
     pub fn map_points(&self, f: impl Fn([f64; 3]) -> [f64; 3]) -> ThbPatch {
         ThbPatch {
-            mesh: self.mesh.clone(),
-            basis: self.basis.clone(),
+            mesh: Arc::clone(&self.mesh),
+            basis: Arc::clone(&self.basis),
             points: self.points.iter().map(|&x| f(x)).collect(),
             weights: self.weights.clone(),
         }
@@ -226,8 +231,8 @@ impl ThbPatch {
             "ThbPatch::with_control_points: one point per function"
         );
         ThbPatch {
-            mesh: self.mesh.clone(),
-            basis: self.basis.clone(),
+            mesh: Arc::clone(&self.mesh),
+            basis: Arc::clone(&self.basis),
             points,
             weights: self.weights.clone(),
         }
@@ -492,8 +497,8 @@ impl ThbPatch {
         let weights = indices.iter().map(|&a| self.weights[a]).collect();
         (
             ThbPatch {
-                mesh,
-                basis,
+                mesh: Arc::new(mesh),
+                basis: Arc::new(basis),
                 points,
                 weights,
             },
