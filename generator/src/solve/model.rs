@@ -1402,7 +1402,8 @@ impl NonlinearProblem for Model {
                     .iter()
                     .map(|p| {
                         size_of_val(p)
-                            + (p.conn.capacity() + p.basis.capacity()) * size_of::<usize>()
+                            + p.conn.capacity() * size_of::<usize>()
+                            + p.basis.capacity() * size_of::<f64>()
                     })
                     .sum::<usize>(),
                 c.state.iter().map(|s| s.storage_bytes()).sum::<usize>(),
