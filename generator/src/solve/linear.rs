@@ -372,12 +372,20 @@ impl LinearSolver {
     }
 
     /// Numeric factorization of the matrix with the analysed pattern and `values` (CSC, one per
-    /// pattern entry), reusing the symbolic analysis and the numeric storage. An LDLᵀ that
+    /// pattern entry), reusing the symbolic analysis and the factor's storage. An LDLᵀ that
     /// regularizes a pivot or fails is replaced by LU ([`Self::fallback`] says why). Fails with
     /// [`Error::LinearSolver`] naming the failure (non-positive Cholesky pivot, structurally
     /// singular LU, non-finite values).
     #[track_caller]
     pub fn factorize(&mut self, values: &[f64]) -> Result<()> {
+        self.factorize_owned(values.to_vec())
+    }
+
+    /// [`Self::factorize`] of `values`, which the solver keeps without a copy (a
+    /// Newton tangent that is not needed after its factorization: the 3D
+    /// systems' matrices hold hundreds of MB).
+    #[track_caller]
+    pub fn factorize_owned(&mut self, values: Vec<f64>) -> Result<()> {
         assert_eq!(
             values.len(),
             self.nnz(),
@@ -392,31 +400,8 @@ impl LinearSolver {
                 values[i]
             )));
         }
-        if self.values.len() == values.len() {
-            self.values.copy_from_slice(values);
-        } else {
-            self.values = values.to_vec();
-        }
-        self.norm_inf = row_sum_norm(self.pattern_ref(), values);
-        self.factorize_kept()
-    }
-
-    /// [`Self::factorize`] of `values`, which the solver keeps without a copy (a
-    /// Newton tangent that is not needed after its factorization: the 3D
-    /// systems' matrices hold hundreds of MB).
-    #[track_caller]
-    pub fn factorize_owned(&mut self, values: Vec<f64>) -> Result<()> {
-        assert_eq!(
-            values.len(),
-            self.nnz(),
-            "factorize: one value per pattern entry"
-        );
-        if values.iter().any(|v| !v.is_finite()) {
-            return self.factorize(&values);
-        }
+        self.norm_inf = row_sum_norm(self.pattern_ref(), &values);
         self.values = values;
-        self.factorized = false;
-        self.norm_inf = row_sum_norm(self.pattern_ref(), &self.values);
         self.factorize_kept()
     }
 
