@@ -12,6 +12,7 @@ use faer::sparse::linalg::amd;
 use faer::sparse::linalg::cholesky::simplicial::{
     prefactorize_symbolic_cholesky, prefactorize_symbolic_cholesky_scratch,
 };
+use rayon::prelude::*;
 
 /// Nested dissection of the matrix graph by METIS (`METIS_NodeND`, multilevel vertex
 /// separators refined by Fiduccia–Mattheyses; its own seeded generator, so the order is
@@ -55,8 +56,13 @@ pub fn node_orders(
 ) -> Vec<Vec<usize>> {
     let of_nodes = pattern.ncols() >= NODE_AMD_MIN_EQUATIONS;
     node_order(pattern, coords, |graph| {
-        let amd = of_nodes.then(|| graph.amd_order());
-        vec![graph.metis_order(), amd]
+        if of_nodes {
+            // The two orders at once (METIS's is serial, and so is AMD's).
+            let (metis, amd) = rayon::join(|| graph.clone().metis_order(), || graph.amd_order());
+            vec![metis, Some(amd)]
+        } else {
+            vec![graph.metis_order(), None]
+        }
     })
 }
 
@@ -119,9 +125,23 @@ fn node_order(
 }
 
 /// Separators METIS computes at each bisection, keeping the smallest (`METIS_OPTION_NSEPS`; the
-/// default is 1). Three cut the level-4 egg box's factor by a further 5 % for about twice the
-/// ordering time (2 s, against 7–12 s for the numeric factorization).
+/// default is 1), where the nodes carry several equations each. Three cut the level-4 egg box's
+/// mechanical factor by a further 5 % for about twice the ordering time (2 s, against 7–12 s
+/// for the numeric factorization). A scalar field's factor on the same graph costs about
+/// 3³ times less (one equation per node instead of three), and there the ordering took twice
+/// the factorization (the thermal phase of the 72 kPa egg box's level 3: 0.9 s against
+/// 0.44 s): one separator ([`metis_separators`]).
 const METIS_SEPARATORS: i32 = 3;
+
+/// [`METIS_SEPARATORS`] where the nodes carry two equations or more on average, else 1.
+fn metis_separators(graph: &NodeGraph) -> i32 {
+    let equations: i64 = graph.weights.iter().map(|&w| i64::from(w)).sum();
+    if equations >= 2 * graph.weights.len() as i64 {
+        METIS_SEPARATORS
+    } else {
+        1
+    }
+}
 
 /// The equations grouped by identical coordinates (bit for bit), in increasing order within a
 /// group; groups numbered in the order of their coordinates.
@@ -165,6 +185,7 @@ impl EquationNodes {
 }
 
 /// The symmetric graph of the nodes (no self loops), in METIS's compressed form.
+#[derive(Clone)]
 struct NodeGraph {
     xadj: Vec<i32>,
     adjncy: Vec<i32>,
@@ -251,6 +272,7 @@ impl NodeGraph {
     /// METIS's nested-dissection order of the nodes (`perm[new] = old`), `None` on its error.
     fn metis_order(mut self) -> Option<Vec<usize>> {
         let m = self.weights.len();
+        let separators = metis_separators(&self);
         if m <= 1 || self.adjncy.is_empty() {
             return Some((0..m).collect());
         }
@@ -272,7 +294,7 @@ impl NodeGraph {
         // call.
         let status = unsafe {
             metis_sys::METIS_SetDefaultOptions(options.as_mut_ptr());
-            options[metis_sys::moptions_et_METIS_OPTION_NSEPS as usize] = METIS_SEPARATORS;
+            options[metis_sys::moptions_et_METIS_OPTION_NSEPS as usize] = separators;
             metis_sys::METIS_NodeND(
                 &mut nvtxs,
                 self.xadj.as_mut_ptr(),
@@ -383,12 +405,15 @@ pub fn fewest_entries_postordered(
     pattern: SymbolicSparseColMatRef<'_, usize>,
     candidates: Vec<Vec<usize>>,
 ) -> Vec<usize> {
+    // The candidates' trees at once; the first of the fewest entries wins, as in sequence.
     let (perm, tree) = candidates
-        .into_iter()
+        .into_par_iter()
         .map(|perm| {
             let tree = EliminationTree::new(pattern, &perm, "fewest_entries_postordered");
             (perm, tree)
         })
+        .collect::<Vec<_>>()
+        .into_iter()
         .reduce(|best, next| {
             let entries = |t: &EliminationTree| t.col_counts.iter().sum::<usize>();
             if entries(&next.1) < entries(&best.1) {
