@@ -713,7 +713,7 @@ fn color_groups(
             .sum()
     };
     let mut order: Vec<usize> = (0..n_groups).collect();
-    order.sort_by_key(|&g| std::cmp::Reverse(entries(g)));
+    order.sort_by_cached_key(|&g| std::cmp::Reverse(entries(g)));
     let mut color = vec![usize::MAX; n_groups];
     // forbidden[c] == step: color c is taken near the group colored at that step.
     let mut forbidden: Vec<usize> = Vec::new();
