@@ -693,8 +693,8 @@ fn element_groups(dof_ptr: &[usize]) -> Vec<usize> {
 /// Greedy coloring of the element groups, the groups with the most entries first (group order
 /// among equals): a group takes the smallest color not used by an already-colored group sharing
 /// one of its equations. Large groups (contact elements couple a face's nodes with those of the
-/// faces it projects onto) are the most constrained; colored last, they ended in colors of their
-/// own, which a few of them could not keep the threads busy on.
+/// faces it projects onto) are the most constrained; colored last, they ended in the last colors
+/// with few other elements, too little work per color to keep the threads busy.
 fn color_groups(
     group_ptr: &[usize],
     dof_ptr: &[usize],

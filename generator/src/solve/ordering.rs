@@ -127,10 +127,10 @@ fn node_order(
 /// Separators METIS computes at each bisection, keeping the smallest (`METIS_OPTION_NSEPS`; the
 /// default is 1), where the nodes carry several equations each. Three cut the level-4 egg box's
 /// mechanical factor by a further 5 % for about twice the ordering time (2 s, against 7–12 s
-/// for the numeric factorization). A scalar field's factor on the same graph costs about
-/// 3³ times less (one equation per node instead of three), and there the ordering took twice
-/// the factorization (the thermal phase of the 72 kPa egg box's level 3: 0.9 s against
-/// 0.44 s): one separator ([`metis_separators`]).
+/// for the numeric factorization). A scalar field's factor on about the same graph is far
+/// cheaper (one equation per node instead of three), and there the ordering took twice the
+/// factorization (the 72 kPa egg box's level 3: the thermal ordering 0.9 s, its factorization
+/// 0.44 s, the mechanical one 5.0 s): one separator ([`metis_separators`]).
 const METIS_SEPARATORS: i32 = 3;
 
 /// [`METIS_SEPARATORS`] where the nodes carry two equations or more on average, else 1.
