@@ -1752,6 +1752,13 @@ impl ContactInterface {
         zone
     }
 
+    /// Whether [`ContactInterface::zone_edges_fitted`] can hold: the 2D
+    /// thermal contact zone of the constraint models.
+    pub fn zone_edges_can_fit(&self) -> bool {
+        let constraint = matches!(self.settings.thermal, ThermalContact::Constraint { .. });
+        self.dim == 2 && self.settings.thermal_zone_in(self.dim) && constraint
+    }
+
     /// Whether the thermal phase integrates over a contact zone whose every
     /// edge is fitted to the near-edge asymptotics
     /// (`ContactInterface::locate_edge`) in the configuration `state` (the
@@ -1761,8 +1768,7 @@ impl ContactInterface {
     /// Always `false` in 3D, whose zone's edges are fitted too but whose
     /// adaptive sequence has not been measured in that regime.
     pub fn zone_edges_fitted(&self, state: &[f64]) -> bool {
-        let constraint = matches!(self.settings.thermal, ThermalContact::Constraint { .. });
-        if self.dim == 3 || !self.settings.thermal_zone_in(self.dim) || !constraint {
+        if !self.zone_edges_can_fit() {
             return false;
         }
         // The thermal phase's zone, where it is frozen (the same edges).

@@ -16,8 +16,8 @@ use crate::material::Material;
 use crate::sample::case::{Acceleration, Case, MasterBody, Method};
 use crate::sample::micro::{
     Bodies, InterfaceMeasures, LOWER, SampleGeometry, ThermalBc, UPPER, build_model_on,
-    case_bodies, case_geometry, case_heights, exact_first_touch, measure, place_at_first_touch,
-    slave_body,
+    case_bodies, case_geometry, case_heights, contact_fraction, exact_first_touch, measure,
+    measure_but_contact, place_at_first_touch, slave_body,
 };
 use crate::sample::vtk::{Fields, PointInfo, VtkSeries};
 use crate::solve::{Model, Newton, NonlinearProblem};
@@ -378,7 +378,7 @@ impl<'a> PathSolver<'a> {
     /// again.
     pub fn thermal_phase_jump(&mut self, pressure: f64) -> Result<f64> {
         let theta_c = self.case.load.contact_temperature;
-        let phase = self.thermal_phase(pressure, [theta_c, theta_c], self.case.load.flux)?;
+        let phase = self.thermal_phase(pressure, [theta_c, theta_c], self.case.load.flux, false)?;
         Ok(self.identify(phase.theta_s, &phase.abp))
     }
 
@@ -527,13 +527,19 @@ impl<'a> PathSolver<'a> {
         // (`regime`: the first difference between two fitted levels; the
         // change onto the first fitted level is one of regime, not of
         // resolution), and [`FITTED_LEVELS`] differences are needed there.
-        let fitted = |m: &mut Model| -> Result<bool> {
+        // It also prepares the contact at the solved state for the next
+        // level's marks (`marks`: unless this is the last level, and then
+        // only where the edges can be fitted).
+        let fitted = |m: &mut Model, marks: bool| -> Result<bool> {
+            if !marks && !m.contact.as_ref().is_some_and(|c| c.zone_edges_can_fit()) {
+                return Ok(false);
+            }
             m.prepare_contact()?;
             Ok(m.contact
                 .as_ref()
                 .is_some_and(|c| c.zone_edges_fitted(&m.state)))
         };
-        let mut regime = fitted(&mut self.model)?.then_some(0);
+        let mut regime = fitted(&mut self.model, true)?.then_some(0);
         // Refined levels resolve the rough faces on the exact surfaces (the
         // case mesh keeps its fit), and their approach counts from the exact
         // surfaces' first touch.
@@ -619,7 +625,7 @@ impl<'a> PathSolver<'a> {
                 .zip(&best)
                 .map(|(f, c)| (f.jump - c.jump).abs())
                 .collect();
-            regime = match (fitted(&mut next.model)?, regime) {
+            regime = match (fitted(&mut next.model, level < d.max_levels)?, regime) {
                 (false, _) => None,
                 (true, Some(start)) => Some(start),
                 (true, None) => Some(diffs.len() + 1),
@@ -757,10 +763,16 @@ impl<'a> PathSolver<'a> {
                 let p0 = self.last_pressure;
                 let base_it = self.drive([p0, 0.0], [pressure, 0.0])?;
                 self.last_pressure = pressure;
-                // First thermal phase at unit flux.
+                // First thermal phase at unit flux. Its contact fraction is
+                // reported, except for the plain solves of the
+                // self-consistent method (its own iterations replace them;
+                // measured for the adaptive levels' trace).
+                let contact = !(plain
+                    && case.homogenization.method == Method::TwoPhaseSelfConsistent)
+                    || std::env::var_os("TCGEN_ADAPT_TRACE").is_some();
                 (
                     base_it,
-                    self.thermal_phase(pressure, [theta_c, theta_c], 1.0)?,
+                    self.thermal_phase(pressure, [theta_c, theta_c], 1.0, contact)?,
                 )
             }
         };
@@ -829,7 +841,7 @@ impl<'a> PathSolver<'a> {
                             }
                             None => self.drive([pressure, 0.0], [pressure, 0.0])?,
                         };
-                        let mut phase = self.thermal_phase(pressure, temps, flux)?;
+                        let mut phase = self.thermal_phase(pressure, temps, flux, false)?;
                         phase.iterations += it;
                         Ok(phase)
                     })();
@@ -892,6 +904,14 @@ impl<'a> PathSolver<'a> {
                         }
                     }
                 }
+                // The contact fraction of the last mechanical phase, the one
+                // reported (the phases' own were not measured).
+                if failure.is_none() {
+                    match contact_fraction(&self.model) {
+                        Ok(f) => iface.contact_fraction = f,
+                        Err(e) => failure = Some(e.to_string()),
+                    }
+                }
                 if converged {
                     self.self_consistency_slope = secant.slope.or(self.self_consistency_slope);
                 }
@@ -934,6 +954,12 @@ impl<'a> PathSolver<'a> {
         if plain {
             self.plain_phase = Some((pressure, first));
         }
+        debug_assert!(
+            out.iter().all(|r| !r.converged
+                || r.interface.contact_fraction.is_finite()
+                || (plain && case.homogenization.method == Method::TwoPhaseSelfConsistent)),
+            "a reported result without its contact fraction"
+        );
         Ok(out)
     }
 
@@ -942,7 +968,18 @@ impl<'a> PathSolver<'a> {
     /// restores the mechanical phase afterwards. Returns the ABP, `θ(I)`, the
     /// iterations, the interface measurements and, when capturing, the
     /// fields: each phase's from its own state ([`Fields::two_phase`]).
-    fn thermal_phase(&mut self, pressure: f64, temps: [f64; 2], flux: f64) -> Result<ThermalPhase> {
+    ///
+    /// The contact fraction is measured only with `contact` set (else `NaN`,
+    /// [`measure_but_contact`]): in 3D it costs more than the rest of the
+    /// measurements, and of the phases at a pressure only the last one's is
+    /// reported.
+    fn thermal_phase(
+        &mut self,
+        pressure: f64,
+        temps: [f64; 2],
+        flux: f64,
+        contact: bool,
+    ) -> Result<ThermalPhase> {
         let case = self.case;
         let (mface, sface) = (self.master_face(), self.slave_face());
         let abp = accompanying_bar(
@@ -972,7 +1009,10 @@ impl<'a> PathSolver<'a> {
         let ts = self
             .model
             .face_mean_temperature(sface.0, self.model.dim - 1, sface.1);
-        let interface = measure(&self.model, self.alpha)?;
+        let interface = match contact {
+            true => measure(&self.model, self.alpha)?,
+            false => measure_but_contact(&self.model, self.alpha)?,
+        };
         // The thermal phase's own state (with its frozen conductivities).
         let fields = match (mechanical, &result) {
             (Some(m), Ok(_)) => Some(Fields::two_phase(m, Fields::sample(&self.model))),
