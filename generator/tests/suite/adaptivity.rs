@@ -434,6 +434,20 @@ fn self_consistency_stops_at_a_share_of_the_estimate_and_reports_it() {
         "{} iterations",
         sc.self_consistency_iterations
     );
+    // The contact fraction is measured once, on the last mechanical phase of
+    // the iterations (not in their thermal phases, nor in the plain levels):
+    // a fraction, near the plain method's on the same mesh (the slave's
+    // thermal expansion moves it a little).
+    let (f, f_plain) = (
+        sc.interface.contact_fraction,
+        plain.interface.contact_fraction,
+    );
+    println!("contact fraction {f} (plain {f_plain})");
+    assert!(f > 0.0 && f < 1.0, "contact fraction {f}");
+    assert!(
+        (f - f_plain).abs() <= 0.02 * f_plain,
+        "contact fraction {f} against {f_plain}"
+    );
 }
 
 /// The first self-consistency iteration of the secant update solves its
