@@ -548,14 +548,21 @@ impl<'a> PathSolver<'a> {
         let ratio = level_error_ratio(case.sample.dimension);
         let mut fine: Option<PathSolver<'a>> = None;
         for level in 1..=d.max_levels {
-            let (src, src_bodies) = match fine.as_mut() {
-                Some(f) => (&mut f.model, &f.bodies),
-                None => (&mut self.model, &self.bodies),
+            let (src, src_bodies, src_newton) = match fine.as_mut() {
+                Some(f) => (&mut f.model, &f.bodies, Some(&mut f.newton)),
+                None => (&mut self.model, &self.bodies, None),
             };
             let clock = std::time::Instant::now();
             // `src` is prepared at its solved state: by `fitted` above (the
             // case mesh) or below (the previous level).
             let marks = mark_contact_edges(src, slave)?;
+            // The previous level's factors and caches are not needed while
+            // this one builds and solves (rebuilt should it be kept after a
+            // failure); freed first, so that this level reuses their memory.
+            if let Some(newton) = src_newton {
+                newton.release_solvers();
+                src.release_caches();
+            }
             let marked = clock.elapsed().as_secs_f64();
             let bodies = refine_bodies(src_bodies, &marks).resolved(&heights, self.geometry.g0)?;
             let refined = clock.elapsed().as_secs_f64();
@@ -577,12 +584,6 @@ impl<'a> PathSolver<'a> {
             next.self_consistency_slope = self.self_consistency_slope;
             next.model.set_symmetric_solvers(src.symmetric_solvers());
             transfer_state(src, &mut next.model);
-            // The previous level's factors and caches are not needed while
-            // this one solves (rebuilt should it be kept after a failure).
-            if let Some(f) = fine.as_mut() {
-                f.newton.release_solvers();
-                f.model.release_caches();
-            }
             next.last_pressure = pressure;
             let built = clock.elapsed().as_secs_f64();
             let solved = match next.solve_fluxes_on_mesh(pressure, fluxes, true, None) {

@@ -866,6 +866,12 @@ impl LinearSolver {
         }
     }
 
+    /// Bytes of the factor's values in the solver's precision (0 for LU,
+    /// whose factor size is known only once factorized).
+    pub fn factor_value_bytes(&self) -> usize {
+        self.factor_nnz().unwrap_or(0) * self.precision.value_bytes()
+    }
+
     /// The fill-reducing permutation in use, `perm[new] = old` (the column permutation for LU).
     pub fn permutation(&self) -> Vec<usize> {
         match &self.factors {

@@ -47,6 +47,12 @@ pub struct Body {
     bulk_points: Option<usize>,
 }
 
+/// A model that releases its caches ([`Model::release_caches`]) returns the
+/// free pages to the system where its bulk quadrature held at least this many
+/// bytes (the 3D adaptive levels from the third, 0.15–1.2 GB on the egg box);
+/// the 2D levels' few MB stay with the allocator.
+const RETURNED_QUADRATURE_BYTES: usize = 64 << 20;
+
 /// The bulk quadrature of every element of `patch`: `bulk_points` Gauss points per direction,
 /// or [`default_bulk_points`] of each direction's degree.
 fn bulk_quadrature(patch: &ThbPatch, bulk_points: Option<usize>) -> Vec<ElementQuadrature> {
@@ -466,6 +472,7 @@ impl ModelBuilder {
             assembly_coverage: Vec::new(),
             assembly_stale: false,
             assembly_builds: 0,
+            quadrature_builds: 0,
             kept_assembly: None,
             elements: Vec::new(),
             eq_class: Vec::new(),
@@ -531,6 +538,8 @@ pub struct Model {
     assembly_stale: bool,
     /// Assemblies built so far ([`Model::assembly_builds`]).
     assembly_builds: usize,
+    /// Bulk quadratures recomputed after [`Model::release_quadrature`].
+    quadrature_builds: usize,
     /// The last assembly of another phase, with the slave nodes it couples,
     /// reused when the phases alternate (the self-consistent iterations) on
     /// an unchanged pattern ([`Model::set_coupling`]).
@@ -822,23 +831,66 @@ impl Model {
     }
 
     /// Frees what the model keeps only to go faster: the bulk quadrature of its elements and
-    /// the assembly of the phase it is not in. Both come back, the same, when next needed (the
-    /// quadrature at the next assembly or pattern, the other phase's assembly at its next
-    /// change of phase). For a model that waits: an adaptive level while the next one solves
-    /// (the 72 kPa egg box's peak 12.5 → 12.0 GB; docs/3d.md, "Stop 40").
+    /// the assemblies (pattern, scatter map) of both phases. They come back, the same, when
+    /// next needed (the quadrature and the phase's assembly at the next preparation or
+    /// assembly, the other phase's at its next change of phase), and the freed pages go back
+    /// to the system ([`super::resources::return_free_memory`]). For a model that waits: an
+    /// adaptive level while the next one solves (the 72 kPa egg box's peak 12.5 → 12.0 GB,
+    /// docs/3d.md, "Stop 40"; the assembly too since "Stop 47").
     pub fn release_caches(&mut self) {
+        let quadrature = self.quadrature_bytes();
         self.kept_assembly = None;
+        self.assembly = Assembly::new(0, Vec::new());
+        self.assembly_coverage = Vec::new();
+        self.mark_assembly_stale();
+        self.release_quadrature();
+        // The return costs a walk over the heaps (milliseconds), which the
+        // small levels of 2D points solved in parallel would pay many times.
+        if quadrature >= RETURNED_QUADRATURE_BYTES {
+            super::resources::return_free_memory();
+        }
+    }
+
+    /// Bytes held by the bulk quadrature.
+    fn quadrature_bytes(&self) -> usize {
+        self.bodies
+            .iter()
+            .flat_map(|b| &b.quadrature)
+            .map(|q| q.storage_bytes())
+            .sum()
+    }
+
+    /// Frees the bulk quadrature of the elements ([`Model::release_caches`]
+    /// without the assemblies, whose rebuild costs more); the next assembly
+    /// recomputes it, the same.
+    pub fn release_quadrature(&mut self) {
         for body in &mut self.bodies {
             body.quadrature = Vec::new();
         }
     }
 
+    /// Bulk quadratures recomputed since the model was built (each after a
+    /// [`Model::release_quadrature`] or [`Model::release_caches`]).
+    pub fn quadrature_builds(&self) -> usize {
+        self.quadrature_builds
+    }
+
     /// Recomputes the bulk quadrature that [`Model::release_caches`] freed.
     fn restore_quadrature(&mut self) {
+        let clock = std::time::Instant::now();
+        let mut rebuilt = false;
         for body in &mut self.bodies {
             if body.quadrature.is_empty() && body.patch.n_elements() > 0 {
                 body.quadrature = bulk_quadrature(&body.patch, body.bulk_points);
+                rebuilt = true;
             }
+        }
+        self.quadrature_builds += usize::from(rebuilt);
+        if rebuilt && std::env::var_os("TCGEN_TRACE").is_some() {
+            eprintln!(
+                "  bulk quadrature rebuilt in {:.2} s",
+                clock.elapsed().as_secs_f64()
+            );
         }
     }
 
@@ -1386,12 +1438,7 @@ impl NonlinearProblem for Model {
 
     fn storage_report(&self) -> Option<String> {
         let mb = |b: usize| b >> 20;
-        let quadrature: usize = self
-            .bodies
-            .iter()
-            .flat_map(|b| &b.quadrature)
-            .map(|q| q.storage_bytes())
-            .sum();
+        let quadrature = self.quadrature_bytes();
         let kept = self
             .kept_assembly
             .as_ref()
@@ -1552,6 +1599,13 @@ impl NonlinearProblem for Model {
             c.lambda_n.copy_from_slice(&saved[n..n + ns]);
             c.lambda_t.copy_from_slice(&saved[n + ns..n + 2 * ns]);
         }
+    }
+
+    /// The bulk quadrature (1.15 GB against a 2.5 GB factor on the 3D egg
+    /// box's fourth level), returned to the system.
+    fn release_caches_for_factorization(&mut self) {
+        self.release_quadrature();
+        super::resources::return_free_memory();
     }
 }
 

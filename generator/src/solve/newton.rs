@@ -69,6 +69,10 @@ pub trait NonlinearProblem {
     fn save(&self) -> Vec<f64>;
     /// Restores a state from [`NonlinearProblem::save`].
     fn restore(&mut self, state: &[f64]);
+    /// Frees what the problem rebuilds by itself at its next assembly, while
+    /// a factorization of at least [`FACTOR_BYTES_RELEASING_CACHES`] holds the
+    /// memory (the 3D models' bulk quadrature).
+    fn release_caches_for_factorization(&mut self) {}
 }
 
 /// Settings of Newton's method (tolerances in the solver's scaled units).
@@ -204,6 +208,9 @@ pub struct Newton {
     /// Kept solvers of the phase of a new pattern at least this large are dropped before it
     /// is analysed ([`KEPT_SOLVER_BYTES`]).
     kept_solver_bytes: usize,
+    /// Factorizations whose factor values take at least this many bytes free the problem's
+    /// caches first ([`FACTOR_BYTES_RELEASING_CACHES`]).
+    factor_bytes_releasing_caches: usize,
     /// Newton increments solved by a numeric factorization, and by preconditioned GMRES.
     factorizations: usize,
     krylov_solves: usize,
@@ -329,6 +336,27 @@ const KEPT_SOLVERS: usize = 4;
 /// iteration), and so are small solvers (every 2D micro-sample's).
 pub const KEPT_SOLVER_BYTES: usize = 256 << 20;
 
+/// A numeric factorization whose factor values take at least this many bytes
+/// first frees the problem's rebuildable caches
+/// ([`NonlinearProblem::release_caches_for_factorization`]): the factor and
+/// its workspace are the largest allocation of a solve, and the caches come
+/// back at the next assembly. On the 3D egg box's fourth level (150 k
+/// unknowns, a 2.5 GB single-precision factor) the bulk quadrature holds
+/// 1.15 GB and takes about a second to rebuild against a factorization of
+/// 30 s (docs/3d.md, "Stop 47"); the third levels' factors (below 1 GB)
+/// keep their caches.
+pub const FACTOR_BYTES_RELEASING_CACHES: usize = 1 << 30;
+
+/// A tangent whose values take at least this many bytes first returns the
+/// allocator's free pages to the system
+/// ([`super::resources::return_free_memory`]): its values are a new block,
+/// and what the iterations before freed in small blocks (contact point
+/// states, the bulk quadrature, work arrays) stays resident beside it
+/// otherwise. On the 3D egg box's fourth level at 132 kPa (a 580 MB
+/// tangent) each call returned 0.2–0.7 GB in 10–60 ms, and the point's peak
+/// fell 7.48 → 6.94 GB (docs/3d.md, "Stop 47"); 2D tangents stay below it.
+pub const TANGENT_BYTES_RETURNING_FREE_MEMORY: usize = 128 << 20;
+
 /// An analysed solver kept by [`Newton`].
 struct KeptSolver {
     /// The field classes of its problem's equations (a bit per class: the phase it belongs to).
@@ -360,6 +388,7 @@ impl Newton {
             krylov_min_eq: KRYLOV_MIN_EQ,
             krylov_min_fill: KRYLOV_MIN_FILL,
             kept_solver_bytes: KEPT_SOLVER_BYTES,
+            factor_bytes_releasing_caches: FACTOR_BYTES_RELEASING_CACHES,
             factorizations: 0,
             krylov_solves: 0,
             krylov_iterations: 0,
@@ -386,6 +415,12 @@ impl Newton {
     /// ([`KRYLOV_MIN_EQ`] by default; `usize::MAX`: always factorize).
     pub fn set_krylov_min_eq(&mut self, n: usize) {
         self.krylov_min_eq = n;
+    }
+
+    /// Sets the bytes of factor values from which a factorization frees the problem's caches
+    /// first ([`FACTOR_BYTES_RELEASING_CACHES`] by default; 0: before every factorization).
+    pub fn set_factor_bytes_releasing_caches(&mut self, bytes: usize) {
+        self.factor_bytes_releasing_caches = bytes;
     }
 
     /// Sets the factor entries per equation from which increments are first solved by
@@ -663,6 +698,9 @@ impl Newton {
                 ));
             }
             let nnz = p.pattern().row_idx().len();
+            if nnz * size_of::<f64>() >= TANGENT_BYTES_RETURNING_FREE_MEMORY {
+                super::resources::return_free_memory();
+            }
             let mut values = vec![0.0; nnz];
             p.assemble(Some(&mut values), &mut r)?;
             let tangent = clock.elapsed().as_secs_f64();
@@ -697,6 +735,9 @@ impl Newton {
             }
             let solver = &mut self.solvers[0].solver;
             if krylov.is_none() {
+                if solver.factor_value_bytes() >= self.factor_bytes_releasing_caches {
+                    p.release_caches_for_factorization();
+                }
                 solver
                     .factorize_owned(std::mem::take(&mut values))
                     .map_err(|e| linear_failure(it, e))?;

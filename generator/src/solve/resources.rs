@@ -42,6 +42,25 @@
 use crate::sample::Case;
 use crate::{Error, Result};
 
+/// Returns the free pages of the allocator's heaps to the system (glibc's
+/// `malloc_trim`; elsewhere nothing). Memory freed as many small blocks (the
+/// bulk quadrature: two vectors per Gauss point) stays resident otherwise,
+/// where a large factorization cannot reuse it: it allocates its factor and
+/// workspace as blocks of their own.
+pub fn return_free_memory() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    {
+        unsafe extern "C" {
+            fn malloc_trim(pad: usize) -> std::ffi::c_int;
+        }
+        // SAFETY: `malloc_trim` takes no pointer; it only releases free
+        // pages of glibc's heaps, whatever the state of the program.
+        unsafe {
+            malloc_trim(0);
+        }
+    }
+}
+
 /// Fixed part of the model (process, geometry, small arrays).
 const BASE_BYTES: f64 = 10e6;
 /// Coefficient of `N^1.6` at p = 2 in 2D.

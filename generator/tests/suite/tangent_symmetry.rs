@@ -280,19 +280,33 @@ fn thermal_models_without_multipliers_have_symmetric_tangents() {
 }
 
 /// A model whose caches were released ([`Model::release_caches`]: the bulk quadrature and the
-/// other phase's assembly, as an adaptive level's while the next one solves) assembles the same
-/// tangent and residual to the bit, in its phase and after a change of phase.
+/// assemblies of both phases, as an adaptive level's while the next one solves) rebuilds them
+/// once and assembles the same tangent and residual to the bit, in its phase and after a
+/// change of phase.
 #[test]
 fn released_caches_come_back_the_same() {
     let c = case(2, LateralCondition::Periodic, TopLateral::Fixed);
     let mut model = mechanical(&c, 1.0e4);
     let kept = tangent(&mut model);
+    let (assemblies, quadratures) = (model.assembly_builds(), model.quadrature_builds());
     model.release_caches();
     assert!(model.bodies.iter().all(|b| b.quadrature.is_empty()));
     assert!(
         tangent(&mut model) == kept,
         "mechanical phase after release"
     );
+    assert_eq!(
+        model.assembly_builds(),
+        assemblies + 1,
+        "the assembly rebuilt"
+    );
+    assert_eq!(
+        model.quadrature_builds(),
+        quadratures + 1,
+        "the quadrature rebuilt"
+    );
+    assert!(tangent(&mut model) == kept);
+    assert_eq!(model.quadrature_builds(), quadratures + 1, "rebuilt once");
     let (mut released, mut twin) = (mechanical(&c, 1.0e4), mechanical(&c, 1.0e4));
     for (m, release) in [(&mut released, true), (&mut twin, false)] {
         thermal(m, 1.0e4, 1.0e6);
@@ -305,6 +319,44 @@ fn released_caches_come_back_the_same() {
         tangent(&mut released) == tangent(&mut twin),
         "mechanical phase after a thermal one"
     );
+}
+
+/// A Newton solve whose factorizations free the bulk quadrature first
+/// ([`Newton::set_factor_bytes_releasing_caches`], here before every one; by
+/// default only those of factors of 1 GiB and more) rebuilds it once per
+/// factorization and ends in the same state to the bit as one that keeps it.
+#[test]
+fn factorizations_that_free_the_quadrature_solve_the_same() {
+    let c = case(2, LateralCondition::Periodic, TopLateral::Fixed);
+    let solve = |release: bool| {
+        let (mu, ml) = c.materials().unwrap();
+        let geo = case_geometry(&c).unwrap();
+        let bc = ThermalBc {
+            master_face_temperature: c.load.contact_temperature,
+            flux: 1.0,
+        };
+        let mut model = build_model(&c, &geo, (&mu, &ml), bc, Coupling::Mechanical).unwrap();
+        model.set_path([0.0, 0.0], [1.0e4, 0.0]);
+        let mut newton = Newton::new(NewtonSettings::default(), LoadStepping::default());
+        if release {
+            newton.set_factor_bytes_releasing_caches(0);
+        }
+        newton.solve(&mut model).unwrap();
+        (
+            model.save(),
+            model.quadrature_builds(),
+            newton.linear_solves().0,
+        )
+    };
+    let (kept, kept_builds, _) = solve(false);
+    let (freed, freed_builds, factorizations) = solve(true);
+    assert_eq!(kept_builds, 0);
+    assert!(factorizations > 1);
+    assert_eq!(
+        freed_builds, factorizations,
+        "one rebuild per factorization"
+    );
+    assert!(freed == kept, "the same state to the bit");
 }
 
 /// Changes of equations before the next preparation build the assembly once,
