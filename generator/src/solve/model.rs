@@ -49,8 +49,9 @@ pub struct Body {
 
 /// A model that releases its caches ([`Model::release_caches`]) returns the
 /// free pages to the system where its bulk quadrature held at least this many
-/// bytes (the 3D adaptive levels from the third, 0.15–1.2 GB on the egg box);
-/// the 2D levels' few MB stay with the allocator.
+/// bytes (the egg box's waiting second and third levels at 132 kPa, 0.14 and
+/// 0.46 GB; its first, 34 MB, and the 2D levels' few MB stay with the
+/// allocator).
 const RETURNED_QUADRATURE_BYTES: usize = 64 << 20;
 
 /// The bulk quadrature of every element of `patch`: `bulk_points` Gauss points per direction,
