@@ -726,8 +726,11 @@ impl<'a> PathSolver<'a> {
         estimates: Option<&[f64]>,
     ) -> Result<Vec<PointResult>> {
         let case = self.case;
-        let self_consistent =
-            !plain && case.homogenization.method == Method::TwoPhaseSelfConsistent;
+        let self_consistent_method = case.homogenization.method == Method::TwoPhaseSelfConsistent;
+        let self_consistent = !plain && self_consistent_method;
+        // The plain solve of the self-consistent method, whose own iterations
+        // replace its results (it reports no contact fraction).
+        let replaced = plain && self_consistent_method;
         if matches!(
             case.homogenization.method,
             Method::Coupled | Method::Linearized
@@ -768,9 +771,7 @@ impl<'a> PathSolver<'a> {
                 // reported, except for the plain solves of the
                 // self-consistent method (its own iterations replace them;
                 // measured for the adaptive levels' trace).
-                let contact = !(plain
-                    && case.homogenization.method == Method::TwoPhaseSelfConsistent)
-                    || std::env::var_os("TCGEN_ADAPT_TRACE").is_some();
+                let contact = !replaced || std::env::var_os("TCGEN_ADAPT_TRACE").is_some();
                 (
                     base_it,
                     self.thermal_phase(pressure, [theta_c, theta_c], 1.0, contact)?,
@@ -956,9 +957,8 @@ impl<'a> PathSolver<'a> {
             self.plain_phase = Some((pressure, first));
         }
         debug_assert!(
-            out.iter().all(|r| !r.converged
-                || r.interface.contact_fraction.is_finite()
-                || (plain && case.homogenization.method == Method::TwoPhaseSelfConsistent)),
+            out.iter()
+                .all(|r| !r.converged || r.interface.contact_fraction.is_finite() || replaced),
             "a reported result without its contact fraction"
         );
         Ok(out)
