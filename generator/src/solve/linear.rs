@@ -1069,14 +1069,14 @@ fn multiply_add_from(
         columns_into(0..x.len(), y);
         return;
     }
-    // Ranges of about equal entries.
-    let mut bounds = vec![0];
-    for c in 1..PRODUCT_CHUNKS {
-        let target = nnz * c / PRODUCT_CHUNKS;
-        let j = col_ptr.partition_point(|&p| p < target).min(x.len());
-        bounds.push(j.max(*bounds.last().unwrap_or(&0)));
-    }
-    bounds.push(x.len());
+    // Ranges of about equal entries: range c starts at the first column
+    // whose entries start at c/PRODUCT_CHUNKS of them (nondecreasing in c).
+    let bounds: Vec<usize> = (0..=PRODUCT_CHUNKS)
+        .map(|c| match c {
+            PRODUCT_CHUNKS => x.len(),
+            c => col_ptr.partition_point(|&p| p < nnz * c / PRODUCT_CHUNKS),
+        })
+        .collect();
     let parts: Vec<Vec<f64>> = bounds
         .par_windows(2)
         .map(|w| {
