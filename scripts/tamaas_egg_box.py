@@ -119,6 +119,11 @@ GAP_LEVELS = [0.05, 0.1]
 P_STAR = math.sqrt(2.0) * math.pi * E_STAR * AMPLITUDE / WAVELENGTH
 
 
+def ratio_text(r):
+    """A ratio as the committed CSV writes it (two decimals, more if needed)."""
+    return f"{r:.2f}" if round(r, 2) == r else f"{r:g}"
+
+
 def hertz_contact_fraction(pressure):
     """analytical::egg_box::hertz_contact_fraction: two spheres of radius
     R = lambda^2/(4 pi^2 Delta) per cell, each pressed by p lambda^2/2."""
@@ -149,11 +154,11 @@ def indenter(n):
     return surface
 
 
-def reference(n):
+def reference(n, ratios):
     """The rows (ratio, pressure, contact fraction, mean gap, K, Barber C) of one grid."""
     surface = indenter(n)
     rows = []
-    for r in RATIOS:
+    for r in ratios:
         p = r * P_STAR
         start = time.time()
         fraction, gap, mean_p, below = solve(surface, p, [x * AMPLITUDE for x in GAP_LEVELS])
@@ -163,7 +168,7 @@ def reference(n):
         stiffness = -(2.0 * STEP * p) / (g_plus - g_minus)
         conductance = K_THERMAL / E_STAR * stiffness
         rows.append((r, p, fraction, gap, stiffness, conductance, *below))
-        print(f"  {n}^2 {r:.2f} p*: {time.time() - start:.1f} s", flush=True)
+        print(f"  {n}^2 {r:g} p*: {time.time() - start:.1f} s", flush=True)
     return rows
 
 
@@ -174,10 +179,12 @@ def main():
     parser.add_argument("--grids", type=int, nargs="+", default=[128, 256, 512, 1024])
     parser.add_argument("--contact-check", type=int, nargs="*", default=[],
                         help="finer grids on which only the contact fractions are computed")
+    parser.add_argument("--ratios", type=float, nargs="+", default=RATIOS,
+                        help="the pressures as fractions of p*")
     args = parser.parse_args()
     start = time.time()
     print(f"E* = {E_STAR:.9e} Pa, p* = {P_STAR:.9e} Pa")
-    results = [(n, reference(n)) for n in sorted(args.grids)]
+    results = [(n, reference(n, args.ratios)) for n in sorted(args.grids)]
     n_fine, fine = results[-1]
     print(f"grid convergence, relative to {n_fine}^2:")
     print("    grid   p/p*  contact    mean gap    K          Barber C   non-contact  "
@@ -186,21 +193,21 @@ def main():
         for r, f in zip(rows, fine):
             rel = [100.0 * (r[k] / f[k] - 1.0) for k in (2, 3, 4, 5, 6, 7)]
             gap_rel = 100.0 * ((1.0 - r[2]) / (1.0 - f[2]) - 1.0)
-            print(f"    {n}^2 {r[0]:5.2f}  {rel[0]:+.2f} %    {rel[1]:+.3f} %    "
+            print(f"    {n}^2 {ratio_text(r[0]):>5}  {rel[0]:+.2f} %    {rel[1]:+.3f} %    "
                   f"{rel[2]:+.2f} %    {rel[3]:+.2f} %    {gap_rel:+.2f} %      "
                   f"{rel[4]:+.2f} %, {rel[5]:+.2f} %")
     for n in args.contact_check:
         surface = indenter(n)
-        for r, f in zip(RATIOS, fine):
+        for r, f in zip(args.ratios, fine):
             t = time.time()
             fraction, _, _ = solve(surface, r * P_STAR)
-            print(f"    {n}^2 {r:5.2f}  contact {fraction:.6f} ({100.0 * (fraction / f[2] - 1.0):+.3f} %), "
+            print(f"    {n}^2 {ratio_text(r):>5}  contact {fraction:.6f} ({100.0 * (fraction / f[2] - 1.0):+.3f} %), "
                   f"non-contact {100.0 * ((1.0 - fraction) / (1.0 - f[2]) - 1.0):+.3f} % "
                   f"({time.time() - t:.0f} s)", flush=True)
     print("at the committed grid (Hertz and penny-gap asymptotes for comparison):")
     for r, p, fr, g, s, c, *_ in fine:
         h, nf = hertz_contact_fraction(p), near_full_contact_fraction(r)
-        print(f"{r:.2f} p* = {p:.6g} Pa: contact {fr:.6f} (Hertz {h:.6f}, {100 * (h / fr - 1):+.1f} %; "
+        print(f"{ratio_text(r)} p* = {p:.6g} Pa: contact {fr:.6f} (Hertz {h:.6f}, {100 * (h / fr - 1):+.1f} %; "
               f"penny {nf:.6f}), mean gap {g:.6e} m, K {s:.6e} Pa/m, Barber C {c:.6e} W/(m2 K)")
     with open(args.out, "w") as f:
         f.write(f"# tamaas {tm.__version__} basic_2d PolonskyKeerRey (tolerance {TOLERANCE:g}), "
@@ -215,7 +222,7 @@ def main():
         f.write("ratio,pressure,contact_fraction,mean_gap,stiffness,barber_conductance,"
                 "gap_below_0.05,gap_below_0.1\n")
         for row in fine:
-            f.write(",".join([f"{row[0]:.2f}"] + [f"{v:.8e}" for v in row[1:]]) + "\n")
+            f.write(",".join([ratio_text(row[0])] + [f"{v:.8e}" for v in row[1:]]) + "\n")
     print(f"wrote {args.out}; {time.time() - start:.0f} s")
 
 

@@ -99,15 +99,28 @@ pub struct BemRow {
 }
 
 /// The boundary-element reference (tamaas; module docs), rows in
-/// increasing pressure.
+/// increasing pressure: 0.02–0.9 `p*`.
 pub fn bem_reference() -> Vec<BemRow> {
-    include_str!("../../../tests/data/egg_box_tamaas.csv")
-        .lines()
+    bem_rows(include_str!("../../../tests/data/egg_box_tamaas.csv"))
+}
+
+/// The same reference at small spots, 0.002–0.01 `p*` (contact fractions
+/// 1.2–3.7 %, as at the benchmark egg box's lowest pressures;
+/// `scripts/tamaas_egg_box.py --ratios`, its docs: grid convergence).
+pub fn bem_reference_small_spots() -> Vec<BemRow> {
+    bem_rows(include_str!(
+        "../../../tests/data/egg_box_tamaas_small_spots.csv"
+    ))
+}
+
+/// The rows of a reference CSV written by `scripts/tamaas_egg_box.py`.
+fn bem_rows(text: &str) -> Vec<BemRow> {
+    text.lines()
         .filter(|l| !l.starts_with('#') && !l.starts_with("ratio"))
         .map(|l| {
             let v: Vec<f64> = l
                 .split(',')
-                .map(|x| x.trim().parse().expect("egg_box_tamaas.csv: a number"))
+                .map(|x| x.trim().parse().expect("egg box reference CSV: a number"))
                 .collect();
             BemRow {
                 ratio: v[0],
@@ -440,7 +453,39 @@ mod tests {
     /// pressure at its ratio of `p*`, and physically sane rows.
     #[test]
     fn the_bem_reference_is_this_samples() {
-        let text = include_str!("../../../tests/data/egg_box_tamaas.csv");
+        for (text, rows, count, ratios) in [
+            (
+                include_str!("../../../tests/data/egg_box_tamaas.csv"),
+                bem_reference(),
+                8,
+                &RATIOS[..],
+            ),
+            (
+                include_str!("../../../tests/data/egg_box_tamaas_small_spots.csv"),
+                bem_reference_small_spots(),
+                3,
+                &[0.002, 0.005, 0.01][..],
+            ),
+        ] {
+            assert_eq!(rows.len(), count);
+            check_bem_reference(text, &rows, ratios);
+        }
+        // At small spots the contact fraction approaches Hertz's (within
+        // 1.8, 2.3 and 3.3 % at 0.002, 0.005 and 0.01 `p*`).
+        for r in bem_reference_small_spots() {
+            let hertz = egg_box::hertz_contact_fraction(
+                benchmark_e_star(),
+                2.0 * RMS,
+                WAVELENGTH,
+                r.ratio * p_star(),
+            );
+            assert!((r.contact_fraction / hertz - 1.0).abs() < 0.04, "{r:?}");
+        }
+    }
+
+    /// The header of a reference CSV is this sample's, and its `rows` (with
+    /// every one of `ratios` of `p*`) are consistent.
+    fn check_bem_reference(text: &str, rows: &[BemRow], ratios: &[f64]) {
         let key = |name: &str| -> f64 {
             text.lines()
                 .find_map(|l| l.strip_prefix(&format!("# {name} = ")))
@@ -469,8 +514,6 @@ mod tests {
             .map(|x| x.trim().parse().unwrap())
             .collect();
         assert_eq!(levels, GAP_LEVELS);
-        let rows = bem_reference();
-        assert_eq!(rows.len(), 8);
         for line in text.lines().filter(|l| !l.starts_with('#')).skip(1) {
             let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
             assert!(rel(v[1], v[0] * p_star()) < 1e-8, "{line}");
@@ -491,7 +534,7 @@ mod tests {
             rows.iter()
                 .all(|r| r.contact_fraction > 0.0 && r.contact_fraction < 1.0)
         );
-        for &r in &RATIOS {
+        for &r in ratios {
             assert!(rows.iter().any(|b| (b.ratio - r).abs() < 1e-9), "{r} p*");
         }
     }
