@@ -700,11 +700,12 @@ fn check(file: &std::path::Path, threads: Option<usize>) -> ExitCode {
     );
     if d.target_error.is_some() {
         println!(
-            "# adaptive (target_error {}): meshes grow up to max_dofs = {} unknowns, about {} per solve at that size; Newton's relative tolerance {:.0e} (at least 1e-4 · target_error)",
+            "# adaptive (target_error {}): meshes grow up to max_dofs = {} unknowns, about {} per solve at that size; Newton's relative tolerance {:.0e} (at least {:.0e} · target_error)",
             d.target_error.unwrap_or_default(),
             d.max_dofs,
             format_bytes(resources::memory_for(d.max_dofs, d.degree, dim)),
-            tcgen::homogenize::path::newton_settings(&case).relative_tolerance
+            tcgen::homogenize::path::newton_settings(&case).relative_tolerance,
+            tcgen::homogenize::path::NEWTON_TARGET_SHARE
         );
     }
     match resources::memory_limit() {

@@ -1042,7 +1042,7 @@ impl<'a> PathSolver<'a> {
 /// increment of a solve whose residual has fallen below it: on the 3D egg
 /// box's 72 kPa point (`tables/egg_box_on_flat.toml` adaptive to 1 %, four
 /// levels, self-consistent) 29 Newton increments instead of 35 and 2:31
-/// instead of 2:55 wall on 2 cores, the jump within 6e-8 and its estimate
+/// instead of 2:55 wall on 2 cores of an Intel Xeon (one run each), the jump within 6e-8 and its estimate
 /// within 1.5e-4 (relative) of the default's (docs/adaptivity.md).
 pub const NEWTON_TARGET_SHARE: f64 = 1e-4;
 
