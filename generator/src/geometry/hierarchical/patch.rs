@@ -442,6 +442,19 @@ impl ThbPatch {
         x
     }
 
+    /// The physical length of cell `c` across its parametric direction `d`:
+    /// the chord between the midpoints of its two faces normal to `d` (exact
+    /// geometry; the cell need not be active).
+    pub fn cell_extent(&self, c: Cell, d: usize) -> f64 {
+        let (lo, hi) = self.mesh.bounds(c);
+        let dim = self.param_dim();
+        let mid: Vec<f64> = (0..dim).map(|k| 0.5 * (lo[k] + hi[k])).collect();
+        let (mut a, mut b) = (mid.clone(), mid);
+        (a[d], b[d]) = (lo[d], hi[d]);
+        let (xa, xb) = (self.point(&a), self.point(&b));
+        (0..3).map(|i| (xb[i] - xa[i]).powi(2)).sum::<f64>().sqrt()
+    }
+
     /// Bulk quadrature of element `e` with `n_gauss[d]` Gauss points in direction `d` (a
     /// single entry applies to all directions), for `param_dim ==` spatial dimension.
     #[track_caller]
