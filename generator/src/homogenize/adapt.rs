@@ -99,8 +99,8 @@ pub const COLUMN_DEPTH_SHARE: f64 = 0.75;
 /// levels then settle on a biased value that the differences between levels
 /// do not see (the 3D benchmark's egg box on `[8, 8, 16]` cells, 0.44 μm tall
 /// and 1.25 μm wide: 7.6 % above a mesh finer in every direction at
-/// 1.842 kPa; docs/3d.md, "Stop 51" and "Stop 52"). On cells as tall as
-/// wide or taller the column is the face cell alone.
+/// 1.842 kPa; docs/3d.md, "Stop 51" and "Stop 52"). On cells at least 3/4
+/// as tall as wide the column is the face cell alone.
 pub fn column(patch: &ThbPatch, c: Cell, normal: usize, side: Side) -> Vec<Cell> {
     let width = (0..patch.param_dim())
         .filter(|&d| d != normal)
