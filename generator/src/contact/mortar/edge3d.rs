@@ -969,21 +969,19 @@ impl ContactInterface {
                         }
                     }
                     // The nodes with a value here, in the order of `index`:
-                    // those in contact first.
-                    let start = points.entries.len() as u32;
-                    for in_contact in [true, false] {
+                    // those in contact, then the others.
+                    let mut side = |in_contact: bool| {
                         for (m, &nm) in n.iter().enumerate() {
                             if nm != 0.0 && (ind[index[m]] > 0.0) == in_contact {
                                 points.entries.push((m as u32, w * nm));
                                 area[m] += w * nm;
                             }
                         }
-                        if in_contact {
-                            let split = points.entries.len() as u32;
-                            points.ranges.push((start, split, 0));
-                        }
-                    }
-                    points.ranges.last_mut().expect("pushed above").2 = points.entries.len() as u32;
+                        points.entries.len() as u32
+                    };
+                    let (split, end) = (side(true), side(false));
+                    let start = points.ranges.last().map_or(0, |r| r.2);
+                    points.ranges.push((start, split, end));
                     points.phi.push(frame.distance(level, p.x));
                 }
             }
