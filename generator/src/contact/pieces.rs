@@ -149,6 +149,57 @@ impl FacePieces {
         s.aa[1][0] = s.aa[0][1];
         Some(s)
     }
+
+    /// The axis-aligned box of element `e`'s Bézier coefficients (its piece
+    /// in the Bernstein basis of the element), if the element is polynomial.
+    /// Bernstein polynomials are non-negative and sum to one, so the piece
+    /// lies in their convex hull: a box about as large as the element itself,
+    /// where that of the functions' control points reaches over the
+    /// neighbours' (and, refined, over coarser functions' supports).
+    pub fn bezier_box(&self, e: usize) -> Option<([f64; 3], [f64; 3])> {
+        let coefficients = self.coefficients[e].as_ref()?;
+        let [b0, b1] = self.degrees.map(monomials_to_bernstein);
+        let [n0, n1] = self.degrees.map(|p| p + 1);
+        let mut out = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for n in 0..n1 {
+            for m in 0..n0 {
+                let mut b = [0.0; 3];
+                for (k, x) in coefficients.iter().enumerate() {
+                    let f = b0[k % n0][m] * b1[k / n0][n];
+                    for c in 0..3 {
+                        b[c] += f * x[c];
+                    }
+                }
+                for c in 0..3 {
+                    out.0[c] = out.0[c].min(b[c]);
+                    out.1[c] = out.1[c].max(b[c]);
+                }
+            }
+        }
+        Some(out)
+    }
+}
+
+/// The Bernstein coefficients `β[k][m]` (degree `p ≤ 3`, `t ∈ [0, 1]`) of
+/// the monomials `s^k` of the centred coordinate `s = 2t − 1`:
+/// `(2t − 1)^k = Σ_j C(k, j) 2^j (−1)^(k−j) t^j` and
+/// `t^j = Σ_(m ≥ j) C(m, j) / C(p, j) B_m^p(t)`.
+fn monomials_to_bernstein(p: usize) -> [[f64; 4]; 4] {
+    let binomial = |n: usize, k: usize| -> f64 {
+        (0..k).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64)
+    };
+    let mut beta = [[0.0; 4]; 4];
+    for (k, row) in beta.iter_mut().enumerate().take(p + 1) {
+        for (m, b) in row.iter_mut().enumerate().take(p + 1) {
+            *b = (0..=k.min(m))
+                .map(|j| {
+                    let sign = if (k - j) % 2 == 0 { 1.0 } else { -1.0 };
+                    binomial(k, j) * 2f64.powi(j as i32) * sign * binomial(m, j) / binomial(p, j)
+                })
+                .sum();
+        }
+    }
+    beta
 }
 
 /// The monomials `t^k` of degree `p ≤ 3` at `t`: `[t^k, (t^k)', (t^k)'']`

@@ -3,10 +3,13 @@
 //! configuration ([`MasterSurface`]), possibly locally refined (elements of
 //! different sizes), and repeated periodically in x and y (PR conditions).
 //!
-//! The search ([`MasterSearch`]) bounds every element by the axis-aligned box
-//! of its control points (THB and NURBS functions are non-negative and sum to
-//! one on an element, so the element's surface lies in their convex hull):
-//! the distance to that box is a lower bound of the distance to the element.
+//! The search ([`MasterSearch`]) bounds every element by an axis-aligned box
+//! that holds it: that of its polynomial piece's Bézier coefficients where
+//! the pieces are built ([`FacePieces::bezier_box`]), else that of its
+//! functions' control points (THB and NURBS functions are non-negative and
+//! sum to one on an element, so the element's surface lies in their convex
+//! hull, which at p = 2 reaches half an element over each neighbour): the
+//! distance to that box is a lower bound of the distance to the element.
 //! Elements (and periodic images) are minimized in the order of their bounds,
 //! starting with the previous projection's element (without one: the element
 //! with the nearest box among those over the point), until the bound exceeds
@@ -249,13 +252,24 @@ impl MasterSearch {
         let face = surface.face;
         let mut boxes = Vec::with_capacity(face.n_elements());
         let mut extent = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-        for el in face.elements() {
+        for (e, el) in face.elements().iter().enumerate() {
             let mut b = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-            for &g in &el.functions {
-                let p = surface.points[g];
+            if let Some(tight) = surface.pieces.and_then(|p| p.bezier_box(e)) {
+                // Widened by the round-off of the conversion (relative to
+                // the coordinates' size).
                 for c in 0..3 {
-                    b.0[c] = b.0[c].min(p[c]);
-                    b.1[c] = b.1[c].max(p[c]);
+                    let slack =
+                        1e-13 * (tight.1[c] - tight.0[c] + tight.0[c].abs().max(tight.1[c].abs()));
+                    b.0[c] = tight.0[c] - slack;
+                    b.1[c] = tight.1[c] + slack;
+                }
+            } else {
+                for &g in &el.functions {
+                    let p = surface.points[g];
+                    for c in 0..3 {
+                        b.0[c] = b.0[c].min(p[c]);
+                        b.1[c] = b.1[c].max(p[c]);
+                    }
                 }
             }
             for c in 0..3 {
@@ -726,8 +740,21 @@ mod tests {
         best
     }
 
+    /// The search's bounds from the functions' control points and from the
+    /// pieces' Bézier boxes (tighter) both find the closest point.
     fn check_against_brute_force(patch: &ThbPatch, per: usize, tol: f64, cases: usize) {
-        let s = surface(patch);
+        let pieces = FacePieces::new(patch, patch.control_points());
+        let plain = surface(patch);
+        let fast = MasterSurface {
+            pieces: Some(&pieces),
+            ..plain
+        };
+        for s in [plain, fast] {
+            check_surface_against_brute_force(s, per, tol, cases);
+        }
+    }
+
+    fn check_surface_against_brute_force(s: MasterSurface, per: usize, tol: f64, cases: usize) {
         let mut r = rng(11);
         for periods in [[None, None], [Some(1.0), Some(1.0)]] {
             let search = MasterSearch::new(&s, periods);
@@ -827,6 +854,71 @@ mod tests {
         let sphere = sphere_patch([0.0; 3], 1.0, [0.1, 0.7], [0.0, 1.2]);
         let pieces = FacePieces::new(&sphere, sphere.control_points());
         assert!(pieces.coefficients.iter().all(|v| v.is_none()));
+    }
+
+    /// The Bézier box of a polynomial element holds its piece and lies in
+    /// the box of its functions' control points; on degree 1 it is the box
+    /// of the element's corners.
+    #[test]
+    fn bezier_boxes_hold_their_elements_within_the_control_points_boxes() {
+        let mut r = rng(23);
+        for (p, n) in [(1, 5), (2, 4), (3, 3)] {
+            let patch = wavy(p, n, 0.08, true);
+            let pieces = FacePieces::new(&patch, patch.control_points());
+            let s = MasterSurface {
+                pieces: Some(&pieces),
+                ..surface(&patch)
+            };
+            let plain = MasterSearch::new(&surface(&patch), [None, None]);
+            let mut ev = SurfaceEvaluator::new(s);
+            let mut tighter = 0.0;
+            for e in 0..patch.n_elements() {
+                let (lo, hi) = pieces.bezier_box(e).unwrap();
+                let (clo, chi) = plain.boxes[e];
+                let (plo, phi) = s.bounds(e);
+                let mut corners = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+                for k in 0..4 {
+                    let eta = [
+                        if k % 2 == 0 { plo[0] } else { phi[0] },
+                        if k / 2 == 0 { plo[1] } else { phi[1] },
+                    ];
+                    let x = ev.at(e, eta).x;
+                    for c in 0..3 {
+                        corners.0[c] = corners.0[c].min(x[c]);
+                        corners.1[c] = corners.1[c].max(x[c]);
+                    }
+                }
+                for c in 0..3 {
+                    assert!(
+                        lo[c] >= clo[c] - 1e-14 && hi[c] <= chi[c] + 1e-14,
+                        "p = {p}, {e}"
+                    );
+                    if p == 1 {
+                        assert!((lo[c] - corners.0[c]).abs() < 1e-14, "p = 1, {e}");
+                        assert!((hi[c] - corners.1[c]).abs() < 1e-14, "p = 1, {e}");
+                    }
+                }
+                tighter +=
+                    (hi[0] - lo[0]) * (hi[1] - lo[1]) / ((chi[0] - clo[0]) * (chi[1] - clo[1]));
+                for _ in 0..50 {
+                    let eta = [0, 1].map(|d| plo[d] + r() * (phi[d] - plo[d]));
+                    let x = ev.at(e, eta).x;
+                    for c in 0..3 {
+                        assert!(
+                            x[c] >= lo[c] - 1e-14 && x[c] <= hi[c] + 1e-14,
+                            "p = {p}, {e}: {x:?}"
+                        );
+                    }
+                }
+            }
+            // At p ≥ 2 the control points reach over the neighbours.
+            if p >= 2 {
+                assert!(
+                    tighter / (patch.n_elements() as f64) < 0.5,
+                    "p = {p}: {tighter}"
+                );
+            }
+        }
     }
 
     #[test]

@@ -8,7 +8,7 @@
 //! displacements are. The input is in SI; the model works in the scaled units
 //! of [`Scales`].
 
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, PoisonError};
 
 use nalgebra::Vector3;
 use rayon::prelude::*;
@@ -23,7 +23,7 @@ use crate::quadrature::default_bulk_points;
 use crate::solve::dofs::{DofMap, DofMapBuilder};
 use crate::solve::linear::{Factorization, Ordering};
 use crate::solve::newton::NonlinearProblem;
-use crate::solve::ordering::node_orders;
+use crate::solve::ordering::{KeptNodeOrders, node_orders_kept};
 use crate::solve::scales::Scales;
 use crate::{Error, Result};
 
@@ -478,6 +478,7 @@ impl ModelBuilder {
             elements: Vec::new(),
             eq_class: Vec::new(),
             eq_coords: Vec::new(),
+            kept_node_orders: Mutex::new(None),
             symmetric_solvers: true,
             seams,
         };
@@ -548,6 +549,9 @@ pub struct Model {
     elements: Vec<(usize, usize)>,
     eq_class: Vec<usize>,
     eq_coords: Vec<[f64; 3]>,
+    /// The node orders of the last analysis, with the phase they were computed for: the other
+    /// phase's analyses of the same mesh reuse them ([`KeptNodeOrders`]).
+    kept_node_orders: Mutex<Option<(Coupling, KeptNodeOrders)>>,
     /// Whether symmetric tangents get Cholesky/LDLᵀ (else always LU).
     symmetric_solvers: bool,
     /// Seam penalty elements ([`ModelBuilder::smooth_seam`]), assembled
@@ -1501,14 +1505,31 @@ impl NonlinearProblem for Model {
     /// For Cholesky and LDLᵀ, METIS's nested dissection of the nodes (the
     /// equations grouped by their reference coordinates, a multiplier at its
     /// slave node) or AMD (of the nodes too from 20 000 equations,
-    /// [`node_orders`]), whichever gives the factor fewer entries; COLAMD
-    /// for LU. On the adaptive 3D egg box the nested dissection's factor is
-    /// 31 % (level 3) and 36 % (level 4) smaller than AMD's (docs/3d.md,
-    /// "Stop 40").
+    /// [`crate::solve::ordering::node_orders`]), whichever gives the factor
+    /// fewer entries; COLAMD for LU. On the adaptive 3D egg box the nested
+    /// dissection's factor is 31 % (level 3) and 36 % (level 4) smaller than
+    /// AMD's (docs/3d.md, "Stop 40"). The other phase's node orders of the
+    /// same mesh are reused where they hold the nodes ([`KeptNodeOrders`]).
     fn ordering(&self, kind: &Factorization) -> Ordering {
         match kind {
             Factorization::Lu => Ordering::Default,
-            _ => Ordering::Fewest(node_orders(self.assembly.symbolic(), &self.eq_coords)),
+            _ => {
+                let pattern = self.assembly.symbolic();
+                let mut kept = self
+                    .kept_node_orders
+                    .lock()
+                    .unwrap_or_else(PoisonError::into_inner);
+                // The other phase's orders of the same nodes, where they cover them.
+                if let Some((coupling, orders)) = kept.as_ref()
+                    && *coupling != self.assembly_coupling
+                    && let Some(orders) = orders.orders(pattern, &self.eq_coords)
+                {
+                    return Ordering::Fewest(orders);
+                }
+                let (orders, nodes) = node_orders_kept(pattern, &self.eq_coords);
+                *kept = Some((self.assembly_coupling, nodes));
+                Ordering::Fewest(orders)
+            }
         }
     }
 

@@ -6,6 +6,8 @@
 //! Permutations follow faer's convention: `perm[new] = old`, i.e. `perm[k]` is the
 //! original equation eliminated k-th.
 
+use std::collections::HashMap;
+
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::SymbolicSparseColMatRef;
 use faer::sparse::linalg::amd;
@@ -55,15 +57,21 @@ pub fn node_orders(
     coords: &[[f64; 3]],
 ) -> Vec<Vec<usize>> {
     let of_nodes = pattern.ncols() >= NODE_AMD_MIN_EQUATIONS;
-    node_order(pattern, coords, |graph| {
-        if of_nodes {
-            // The two orders at once (METIS's is serial, and so is AMD's).
-            let (metis, amd) = rayon::join(|| graph.clone().metis_order(), || graph.amd_order());
-            vec![metis, Some(amd)]
-        } else {
-            vec![graph.metis_order(), None]
-        }
-    })
+    node_order(pattern, coords, |graph| candidate_orders(graph, of_nodes))
+}
+
+/// An order of the nodes (`perm[new] = old`), or `None` for AMD's order of the equations.
+type NodeOrder = Option<Vec<usize>>;
+
+/// The node orders of [`node_orders`]: METIS's, and AMD's if `of_nodes` (else `None`).
+fn candidate_orders(graph: NodeGraph, of_nodes: bool) -> Vec<NodeOrder> {
+    if of_nodes {
+        // The two orders at once (METIS's is serial, and so is AMD's).
+        let (metis, amd) = rayon::join(|| graph.clone().metis_order(), || graph.amd_order());
+        vec![metis, Some(amd)]
+    } else {
+        vec![graph.metis_order(), None]
+    }
 }
 
 /// AMD's order of the graph of the nodes (as [`nested_dissection`] groups the equations),
@@ -81,6 +89,125 @@ pub fn node_minimum_degree(
     node_order(pattern, coords, |graph| vec![Some(graph.amd_order())]).remove(0)
 }
 
+/// The node orders of one mesh's system ([`node_orders`]), kept for the mesh's other systems:
+/// the other phase's (the thermal phase's nodes are the mechanical phase's, one equation each
+/// instead of three, and their graph the same but for the contact's couplings). Ordering the
+/// same nodes again took 2.0 s of the 72 kPa egg box's level 4 (METIS and AMD on its 30 951
+/// nodes; docs/3d.md, "Stop 55"). Each node is known by its coordinates (bit for bit), as
+/// [`node_orders`] groups the equations.
+#[derive(Clone, Debug, Default)]
+pub struct KeptNodeOrders {
+    /// Per candidate order of [`node_orders`]: each node's position in it, or `None` for the
+    /// candidate that was AMD's order of the equations (small systems).
+    ranks: Vec<Option<HashMap<[u64; 3], usize>>>,
+}
+
+/// The largest share of a system's nodes that [`KeptNodeOrders::orders`] places itself (nodes
+/// the kept orders do not hold: the mechanical phase's prescribed nodes, which carry the
+/// thermal phase's equations: 80 of the benchmark egg box's thermal nodes, 9.7 % on its case
+/// mesh and 0.26 % on level 4).
+pub const KEPT_ORDERS_MAX_NEW_NODES: f64 = 0.1;
+
+impl KeptNodeOrders {
+    /// The orders `kept` gives the equations at `coords`, each node's equations consecutive (the
+    /// candidates of [`node_orders`], AMD's of the equations where the kept one was). A node
+    /// the kept orders do not hold is eliminated just after the last held node it is coupled
+    /// to: it creates no fill itself, and joins a nested dissection's separator where it
+    /// touches one (eliminated before its first neighbour it would couple the parts the
+    /// separator divides: 19 % more entries than the grid's own order with a new row, against
+    /// 1.1 %). `None` if more than [`KEPT_ORDERS_MAX_NEW_NODES`] of the nodes are new.
+    ///
+    /// Panics if `pattern` is not square or `coords.len()` differs from its dimension.
+    #[track_caller]
+    pub fn orders(
+        &self,
+        pattern: SymbolicSparseColMatRef<'_, usize>,
+        coords: &[[f64; 3]],
+    ) -> Option<Vec<Vec<usize>>> {
+        assert_eq!(
+            coords.len(),
+            pattern.ncols(),
+            "kept node orders: one coordinate triple per equation"
+        );
+        let nodes = EquationNodes::new(coords);
+        let m = nodes.count();
+        let node_coords = |a: usize| coords[nodes.equations(a)[0]].map(f64::to_bits);
+        let mut amd = None;
+        self.ranks
+            .iter()
+            .map(|ranks| match ranks {
+                Some(ranks) => {
+                    let held: Vec<Option<usize>> = (0..m)
+                        .map(|a| ranks.get(&node_coords(a)).copied())
+                        .collect();
+                    let new = held.iter().filter(|r| r.is_none()).count();
+                    if new as f64 > KEPT_ORDERS_MAX_NEW_NODES * m as f64 {
+                        return None;
+                    }
+                    // (rank, new after held, node): a new node at its last held neighbour's
+                    // rank (entries in either triangle couple two nodes), at the end without one.
+                    let mut last: Vec<Option<usize>> = vec![None; m];
+                    if new > 0 {
+                        for j in 0..pattern.ncols() {
+                            let b = nodes.node[j];
+                            for &i in &pattern.row_idx()[pattern.col_range(j)] {
+                                let a = nodes.node[i];
+                                for (x, y) in [(a, b), (b, a)] {
+                                    if let (None, Some(r)) = (held[x], held[y]) {
+                                        last[x] = last[x].max(Some(r));
+                                    }
+                                }
+                            }
+                        }
+                    }
+                    let mut key: Vec<(usize, bool, usize)> = (0..m)
+                        .map(|a| match held[a] {
+                            Some(r) => (r, false, a),
+                            None => (last[a].unwrap_or(usize::MAX), true, a),
+                        })
+                        .collect();
+                    key.sort_unstable();
+                    Some(
+                        key.into_iter()
+                            .flat_map(|(_, _, a)| nodes.equations(a).iter().copied())
+                            .collect(),
+                    )
+                }
+                None => Some(
+                    amd.get_or_insert_with(|| approximate_minimum_degree(pattern))
+                        .clone(),
+                ),
+            })
+            .collect()
+    }
+}
+
+/// [`node_orders`], with the node orders kept for the mesh's other systems
+/// ([`KeptNodeOrders::orders`]).
+#[track_caller]
+pub fn node_orders_kept(
+    pattern: SymbolicSparseColMatRef<'_, usize>,
+    coords: &[[f64; 3]],
+) -> (Vec<Vec<usize>>, KeptNodeOrders) {
+    let of_nodes = pattern.ncols() >= NODE_AMD_MIN_EQUATIONS;
+    let (perms, node_orders, nodes) =
+        node_order_with(pattern, coords, |graph| candidate_orders(graph, of_nodes));
+    let node_coords = |a: usize| coords[nodes.equations(a)[0]].map(f64::to_bits);
+    let ranks = node_orders
+        .iter()
+        .map(|order| {
+            order.as_ref().map(|order| {
+                order
+                    .iter()
+                    .enumerate()
+                    .map(|(rank, &a)| (node_coords(a), rank))
+                    .collect()
+            })
+        })
+        .collect();
+    (perms, KeptNodeOrders { ranks })
+}
+
 /// The equations in each of the orders `orders` gives the nodes of their graph, each node's
 /// equations consecutive; AMD's order of the equations for an order that is `None`, and
 /// alone where the graph cannot be built.
@@ -88,8 +215,19 @@ pub fn node_minimum_degree(
 fn node_order(
     pattern: SymbolicSparseColMatRef<'_, usize>,
     coords: &[[f64; 3]],
-    orders: impl FnOnce(NodeGraph) -> Vec<Option<Vec<usize>>>,
+    orders: impl FnOnce(NodeGraph) -> Vec<NodeOrder>,
 ) -> Vec<Vec<usize>> {
+    node_order_with(pattern, coords, orders).0
+}
+
+/// [`node_order`], also returning the orders of the nodes (`None` for each equation order)
+/// and the nodes.
+#[track_caller]
+fn node_order_with(
+    pattern: SymbolicSparseColMatRef<'_, usize>,
+    coords: &[[f64; 3]],
+    orders: impl FnOnce(NodeGraph) -> Vec<NodeOrder>,
+) -> (Vec<Vec<usize>>, Vec<NodeOrder>, EquationNodes) {
     let n = pattern.ncols();
     assert_eq!(
         pattern.nrows(),
@@ -107,21 +245,22 @@ fn node_order(
         amd.get_or_insert_with(|| approximate_minimum_degree(pattern))
             .clone()
     };
-    let perms: Vec<Vec<usize>> = match NodeGraph::new(pattern, &nodes) {
-        None => vec![equation_amd()],
-        Some(graph) => orders(graph)
-            .into_iter()
-            .map(|order| match order {
-                Some(node_order) => node_order
-                    .into_iter()
-                    .flat_map(|a| nodes.equations(a).iter().copied())
-                    .collect(),
-                None => equation_amd(),
-            })
-            .collect(),
+    let node_orders = match NodeGraph::new(pattern, &nodes) {
+        None => vec![None],
+        Some(graph) => orders(graph),
     };
+    let perms: Vec<Vec<usize>> = node_orders
+        .iter()
+        .map(|order| match order {
+            Some(node_order) => node_order
+                .iter()
+                .flat_map(|&a| nodes.equations(a).iter().copied())
+                .collect(),
+            None => equation_amd(),
+        })
+        .collect();
     debug_assert!(perms.iter().all(|perm| is_permutation(perm, n)));
-    perms
+    (perms, node_orders, nodes)
 }
 
 /// Separators METIS computes at each bisection, keeping the smallest (`METIS_OPTION_NSEPS`; the
