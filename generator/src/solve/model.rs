@@ -1509,7 +1509,8 @@ impl NonlinearProblem for Model {
     /// fewer entries; COLAMD for LU. On the adaptive 3D egg box the nested
     /// dissection's factor is 31 % (level 3) and 36 % (level 4) smaller than
     /// AMD's (docs/3d.md, "Stop 40"). The other phase's node orders of the
-    /// same mesh are reused where they hold the nodes ([`KeptNodeOrders`]).
+    /// same mesh are reused where they hold all but a few of the nodes
+    /// ([`KeptNodeOrders`]).
     fn ordering(&self, kind: &Factorization) -> Ordering {
         match kind {
             Factorization::Lu => Ordering::Default,
