@@ -687,3 +687,62 @@ pub fn multipliers_after_neighbours(
     key.sort_unstable();
     key.into_iter().map(|(_, _, new)| perm[new]).collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::BTreeSet;
+
+    /// The nodes' graph is the symmetric adjacency of the nodes (no self loops, no
+    /// duplicates) with the nodes' equation counts as weights: a 60 × 50 grid, two
+    /// equations per node, 9-point stencil.
+    #[test]
+    fn the_node_graph_is_the_symmetric_adjacency_of_the_nodes() {
+        let (nx, ny): (usize, usize) = (60, 50);
+        let mut columns = Vec::new();
+        let mut coords = Vec::new();
+        for j in 0..ny {
+            for i in 0..nx {
+                for _field in 0..2 {
+                    let mut rows = Vec::new();
+                    for jj in j.saturating_sub(1)..(j + 2).min(ny) {
+                        for ii in i.saturating_sub(1)..(i + 2).min(nx) {
+                            rows.extend([2 * (jj * nx + ii), 2 * (jj * nx + ii) + 1]);
+                        }
+                    }
+                    columns.push(rows);
+                    coords.push([i as f64, j as f64, 0.0]);
+                }
+            }
+        }
+        let mut col_ptr = vec![0];
+        let mut row_idx = Vec::new();
+        for rows in &columns {
+            row_idx.extend_from_slice(rows);
+            col_ptr.push(row_idx.len());
+        }
+        let n = coords.len();
+        let pattern = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
+        let nodes = EquationNodes::new(&coords);
+        let graph = NodeGraph::new(pattern, &nodes).expect("fits 32 bits");
+        let m = nodes.count();
+        assert_eq!(m, nx * ny);
+        let mut expected = vec![BTreeSet::new(); m];
+        for (j, rows) in columns.iter().enumerate() {
+            for &i in rows {
+                let (a, b) = (nodes.node[j], nodes.node[i]);
+                if a != b {
+                    expected[a].insert(b as i32);
+                    expected[b].insert(a as i32);
+                }
+            }
+        }
+        for (a, expected) in expected.iter().enumerate() {
+            let list = &graph.adjncy[graph.xadj[a] as usize..graph.xadj[a + 1] as usize];
+            let set: BTreeSet<i32> = list.iter().copied().collect();
+            assert_eq!(set.len(), list.len(), "node {a}: a neighbour twice");
+            assert_eq!(&set, expected, "node {a}");
+            assert_eq!(graph.weights[a], 2);
+        }
+    }
+}

@@ -253,11 +253,8 @@ fn random_assembly_matches_dense_reference() {
     }
 }
 
-/// Q1 elements on an nx × ny node grid: the pattern is the 9-point stencil,
-/// nnz = (3nx − 2)(3ny − 2), and the residual-only assembly equals the full one.
-#[test]
-fn grid_pattern_is_the_nine_point_stencil_and_vector_assembly_agrees() {
-    let (nx, ny) = (23, 17);
+/// The assembly of Q1 elements on an nx × ny node grid (one equation per node).
+fn q1_grid(nx: usize, ny: usize) -> Assembly {
     let element_eqs: Vec<Vec<Option<usize>>> = (0..(nx - 1) * (ny - 1))
         .map(|e| {
             let (i, j) = (e % (nx - 1), e / (nx - 1));
@@ -267,7 +264,31 @@ fn grid_pattern_is_the_nine_point_stencil_and_vector_assembly_agrees() {
                 .collect()
         })
         .collect();
-    let assembly = Assembly::new(nx * ny, element_eqs);
+    Assembly::new(nx * ny, element_eqs)
+}
+
+/// Q1 elements on an nx × ny node grid: the pattern is the 9-point stencil,
+/// nnz = (3nx − 2)(3ny − 2), and the residual-only assembly equals the full one; on a
+/// grid of several of the pattern's column chunks (built in parallel) every column holds
+/// exactly its stencil, sorted.
+#[test]
+fn grid_pattern_is_the_nine_point_stencil_and_vector_assembly_agrees() {
+    let (nx, ny) = (71, 59);
+    let assembly = q1_grid(nx, ny);
+    assert_eq!(assembly.nnz(), (3 * nx - 2) * (3 * ny - 2));
+    let pattern = assembly.symbolic();
+    for c in 0..nx * ny {
+        let (i, j) = (c % nx, c / nx);
+        let mut stencil = Vec::new();
+        for jj in j.saturating_sub(1)..(j + 2).min(ny) {
+            for ii in i.saturating_sub(1)..(i + 2).min(nx) {
+                stencil.push(jj * nx + ii);
+            }
+        }
+        assert_eq!(pattern.row_idx_of_col_raw(c), stencil, "column {c}");
+    }
+    let (nx, ny) = (23, 17);
+    let assembly = q1_grid(nx, ny);
     assert_eq!(assembly.nnz(), (3 * nx - 2) * (3 * ny - 2));
     assert!(
         assembly.n_colors() >= 4,
