@@ -131,14 +131,13 @@ impl KeptNodeOrders {
         );
         let nodes = EquationNodes::new(coords);
         let m = nodes.count();
-        let node_coords = |a: usize| coords[nodes.equations(a)[0]].map(f64::to_bits);
         let mut amd = None;
         self.ranks
             .iter()
             .map(|ranks| match ranks {
                 Some(ranks) => {
                     let held: Vec<Option<usize>> = (0..m)
-                        .map(|a| ranks.get(&node_coords(a)).copied())
+                        .map(|a| ranks.get(&nodes.key(coords, a)).copied())
                         .collect();
                     let new = held.iter().filter(|r| r.is_none()).count();
                     if new as f64 > KEPT_ORDERS_MAX_NEW_NODES * m as f64 {
@@ -192,7 +191,6 @@ pub fn node_orders_kept(
     let of_nodes = pattern.ncols() >= NODE_AMD_MIN_EQUATIONS;
     let (perms, node_orders, nodes) =
         node_order_with(pattern, coords, |graph| candidate_orders(graph, of_nodes));
-    let node_coords = |a: usize| coords[nodes.equations(a)[0]].map(f64::to_bits);
     let ranks = node_orders
         .iter()
         .map(|order| {
@@ -200,7 +198,7 @@ pub fn node_orders_kept(
                 order
                     .iter()
                     .enumerate()
-                    .map(|(rank, &a)| (node_coords(a), rank))
+                    .map(|(rank, &a)| (nodes.key(coords, a), rank))
                     .collect()
             })
         })
@@ -293,9 +291,14 @@ struct EquationNodes {
     node: Vec<usize>,
 }
 
+/// The key that groups equations into nodes: their coordinates, bit for bit.
+fn coordinate_key(coords: &[[f64; 3]], e: usize) -> [u64; 3] {
+    coords[e].map(f64::to_bits)
+}
+
 impl EquationNodes {
     fn new(coords: &[[f64; 3]]) -> Self {
-        let key = |e: usize| coords[e].map(f64::to_bits);
+        let key = |e: usize| coordinate_key(coords, e);
         let mut equations: Vec<usize> = (0..coords.len()).collect();
         equations.sort_unstable_by_key(|&e| (key(e), e));
         let mut start = Vec::new();
@@ -320,6 +323,11 @@ impl EquationNodes {
 
     fn equations(&self, a: usize) -> &[usize] {
         &self.equations[self.start[a]..self.start[a + 1]]
+    }
+
+    /// Node `a`'s [`coordinate_key`].
+    fn key(&self, coords: &[[f64; 3]], a: usize) -> [u64; 3] {
+        coordinate_key(coords, self.equations(a)[0])
     }
 }
 
