@@ -181,7 +181,7 @@ fn check_prints_the_resolved_case_and_refuses_what_cannot_fit() {
     // An adaptive file states the Newton tolerance its solves use.
     let out = succeeded(tcgen().arg("check").arg(root.join("tables/demo.toml")));
     assert!(
-        out.contains("Newton's relative tolerance 1e-6 (at least 1e-4 · target_error)"),
+        out.contains("Newton's relative tolerance 1e-5 (at least 1e-3 · target_error)"),
         "{out}"
     );
     let o = tcgen()
