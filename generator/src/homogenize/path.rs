@@ -479,7 +479,7 @@ impl<'a> PathSolver<'a> {
             return self.solve_fluxes_on_mesh(pressure, fluxes, false, None);
         };
         // The levels compare plain two-phase jumps; the self-consistent
-        // iterations run where those meet the target (`adapt`).
+        // iterations run once, on the final mesh.
         let coarse = self.solve_fluxes_on_mesh(pressure, fluxes, true, None)?;
         if coarse.iter().all(|r| r.converged) {
             self.adapt(pressure, fluxes, coarse, target)
@@ -499,11 +499,9 @@ impl<'a> PathSolver<'a> {
     /// [`FITTED_LEVELS`] differences), or at `max_levels`,
     /// `max_dofs` or a level that fails (then flagged, with the last
     /// estimate). The levels run the plain two-phase identification (one
-    /// mechanical and one thermal phase); with the self-consistent method,
-    /// where the plain jumps meet the target and at the end, its iterations
-    /// run on the last level and the one before ([`self_consistent_levels`]),
-    /// and the estimate is [`self_consistent_estimate`]: where that misses
-    /// the target, the refinement goes on.
+    /// mechanical and one thermal phase); with the self-consistent method
+    /// its iterations then run on the final mesh, and the estimate is
+    /// scaled by the ratio of the final to the plain jump.
     fn adapt(
         &mut self,
         pressure: f64,
@@ -548,16 +546,7 @@ impl<'a> PathSolver<'a> {
         let heights = case_heights(case)?;
         let touch_shift = exact_first_touch(case, &heights) - self.geometry.g0;
         let ratio = level_error_ratio(case.sample.dimension);
-        let self_consistent = case.homogenization.method == Method::TwoPhaseSelfConsistent;
-        // The solved level (`fine`, its number `last`) and the one before it
-        // (`previous`; `None`: the case mesh, this solver), with the plain
-        // estimate of each.
         let mut fine: Option<PathSolver<'a>> = None;
-        let mut previous: Option<PathSolver<'a>> = None;
-        let mut last = 0;
-        let mut previous_estimate: Option<Vec<f64>> = None;
-        // The self-consistent jumps of the levels where they were solved.
-        let mut solved_sc: Vec<(usize, Vec<PointResult>)> = Vec::new();
         for level in 1..=d.max_levels {
             let (src, src_bodies, src_newton) = match fine.as_mut() {
                 Some(f) => (&mut f.model, &f.bodies, Some(&mut f.newton)),
@@ -673,89 +662,33 @@ impl<'a> PathSolver<'a> {
                     .iter()
                     .zip(&best)
                     .all(|(e, r)| *e <= target * r.jump.abs());
-            previous_estimate = estimate.replace(est);
-            previous = fine.replace(next);
-            last = level;
-            if met && self_consistent {
-                // The target is the self-consistent jump's: where its
-                // estimate misses it, the refinement goes on (from this
-                // level's state at θ̄c, prepared again for the marks).
-                let fine = fine.as_mut().expect("the level just solved");
-                let before = previous.as_mut().unwrap_or(&mut *self);
-                let (it, sc, e) = self_consistent_levels(
-                    [before, fine],
-                    last,
-                    (pressure, fluxes),
-                    [previous_estimate.as_deref(), estimate.as_deref()],
-                    &best,
-                    &mut solved_sc,
-                )?;
-                iterations += it;
-                // A flux whose iterations failed is reported so.
-                met = e
-                    .iter()
-                    .zip(&sc)
-                    .all(|(e, r)| !r.converged || *e <= target * r.jump.abs());
-                if trace && !met {
-                    eprintln!(
-                        "adapt {pressure:e} Pa: level {level}: self-consistent estimate {e:?} above the target; refining on"
-                    );
-                }
-                if !met && level < d.max_levels {
-                    fine.model.prepare_contact()?;
-                    // The level before is kept, without its factors, until
-                    // the next one is solved.
-                    if let Some(p) = previous.as_mut() {
-                        p.newton.release_solvers();
-                        p.model.release_caches();
-                    }
-                }
-            }
+            estimate = Some(est);
+            fine = Some(next);
             if met {
                 stop = "target met".into();
                 break;
             }
         }
-        if self_consistent {
+        if case.homogenization.method == Method::TwoPhaseSelfConsistent {
+            let last = fine.as_mut().unwrap_or(self);
             let plain = best;
-            match fine.as_mut() {
-                // No refined level: the case mesh's own iterations.
-                None => {
-                    best = self.solve_fluxes_on_mesh(pressure, fluxes, false, None)?;
-                    iterations += best.iter().map(|r| r.newton_iterations).max().unwrap_or(0);
-                }
-                Some(f) => {
-                    let before = previous.as_mut().unwrap_or(&mut *self);
-                    let (it, sc, e) = self_consistent_levels(
-                        [before, f],
-                        last,
-                        (pressure, fluxes),
-                        [previous_estimate.as_deref(), estimate.as_deref()],
-                        &plain,
-                        &mut solved_sc,
-                    )?;
-                    iterations += it;
-                    // The slope measured on the final level, for the next pressure.
-                    self.self_consistency_slope = f.self_consistency_slope;
-                    if trace {
-                        let jumps: Vec<(usize, Vec<f64>)> = solved_sc
-                            .iter()
-                            .map(|(l, r)| (*l, r.iter().map(|r| r.jump).collect()))
-                            .collect();
-                        eprintln!(
-                            "adapt {pressure:e} Pa: self-consistent jumps by level {jumps:?}, estimate {e:?} (the plain one scaled: {:?})",
-                            estimate
-                                .iter()
-                                .flatten()
-                                .zip(sc.iter().zip(&plain))
-                                .map(|(e, (s, p))| e * (s.jump / p.jump).abs())
-                                .collect::<Vec<_>>()
-                        );
-                    }
-                    best = sc;
-                    if let Some(est) = estimate.as_mut() {
-                        *est = e;
-                    }
+            best = last.solve_fluxes_on_mesh(pressure, fluxes, false, estimate.as_deref())?;
+            iterations += best.iter().map(|r| r.newton_iterations).max().unwrap_or(0);
+            if let Some(f) = &fine {
+                // The slope measured on the final level, for the next pressure.
+                self.self_consistency_slope = f.self_consistency_slope;
+            }
+            let tolerance = case.homogenization.tolerance;
+            for (i, (r, p)) in best.iter().zip(&plain).enumerate() {
+                if let Some(e) = estimate.as_mut()
+                    && p.jump != 0.0
+                    && r.converged
+                {
+                    // The discretization's part, and the bound on the
+                    // fixed point's residual at which the iterations stopped.
+                    let residual =
+                        (tolerance * r.jump.abs()).max(SELF_CONSISTENCY_ESTIMATE_SHARE * e[i]);
+                    e[i] = e[i] * (r.jump / p.jump).abs() + residual;
                 }
             }
         }
@@ -1221,109 +1154,6 @@ pub fn two_level_estimate(d_k: f64, previous: &[f64], ratio: f64) -> f64 {
         .zip([ratio, ratio * ratio])
         .fold(d_k, |m, (d, w)| m.max(w * d))
         * (ratio / (1.0 - ratio))
-}
-
-/// The self-consistency iterations (2.14) on an adaptive level
-/// (`solvers[1]`, level `level`) and on the level before it (`solvers[0]`;
-/// level 0 is the case mesh) at `(pressure, fluxes)`, each unless `solved`
-/// (by level) holds it already, with each level's plain estimate
-/// (`estimates`: the level before, the last) as the floor of its iterations
-/// ([`SELF_CONSISTENCY_ESTIMATE_SHARE`]). The level before solves after the
-/// last one's factors and caches are freed, and without capturing fields;
-/// its iterations start as the last one's did, from the path's slope (with
-/// the last level's slope at this pressure they took 326 Newton increments
-/// on the 3D benchmark's path against 323, docs/3d.md, "Stop 58").
-/// Returns the Newton iterations they took, the last level's results, and
-/// each flux's estimate of their discretization error: the
-/// [`self_consistent_estimate`] from the last level's plain results
-/// (`plain`) and estimate and the changes of the self-consistent jumps over
-/// the consecutive levels solved, plus the bound at which the iterations
-/// stopped, `max(tolerance · |S|, SELF_CONSISTENCY_ESTIMATE_SHARE · E)`. A
-/// flux whose iterations did not converge keeps its plain estimate.
-fn self_consistent_levels(
-    solvers: [&mut PathSolver<'_>; 2],
-    level: usize,
-    (pressure, fluxes): (f64, &[f64]),
-    estimates: [Option<&[f64]>; 2],
-    plain: &[PointResult],
-    solved: &mut Vec<(usize, Vec<PointResult>)>,
-) -> Result<(usize, Vec<PointResult>, Vec<f64>)> {
-    let [before, last] = solvers;
-    let case = last.case;
-    let newton = |r: &[PointResult]| r.iter().map(|r| r.newton_iterations).max().unwrap_or(0);
-    let mut iterations = 0;
-    if !solved.iter().any(|(l, _)| *l == level) {
-        let r = last.solve_fluxes_on_mesh(pressure, fluxes, false, estimates[1])?;
-        iterations += newton(&r);
-        solved.push((level, r));
-    }
-    if level > 0 && !solved.iter().any(|(l, _)| *l == level - 1) {
-        last.newton.release_solvers();
-        last.model.release_caches();
-        let capture = std::mem::replace(&mut before.capture, false);
-        let r = before.solve_fluxes_on_mesh(pressure, fluxes, false, estimates[0]);
-        before.capture = capture;
-        let r = r?;
-        iterations += newton(&r);
-        solved.push((level - 1, r));
-    }
-    let at = |l: usize| {
-        solved
-            .iter()
-            .find(|(k, _)| *k == l)
-            .map(|(_, r)| r.as_slice())
-    };
-    let sc = at(level).expect("the self-consistent results of the last level");
-    let ratio = level_error_ratio(case.sample.dimension);
-    let e = estimates[1]
-        .unwrap_or_default()
-        .iter()
-        .enumerate()
-        .map(|(i, &e)| {
-            let (r, p) = (&sc[i], &plain[i]);
-            if !r.converged || p.jump == 0.0 {
-                return e;
-            }
-            let mut changes = Vec::new();
-            for l in (1..=level).rev() {
-                match (at(l - 1), at(l)) {
-                    (Some(a), Some(b)) if a[i].converged && b[i].converged => {
-                        changes.push((b[i].jump - a[i].jump).abs());
-                    }
-                    _ => break,
-                }
-            }
-            changes.reverse();
-            let residual = (case.homogenization.tolerance * r.jump.abs())
-                .max(SELF_CONSISTENCY_ESTIMATE_SHARE * e);
-            self_consistent_estimate(e, p.jump, r.jump, &changes, ratio) + residual
-        })
-        .collect();
-    Ok((iterations, sc.to_vec(), e))
-}
-
-/// The estimated discretization error of a self-consistent jump `S` (K) on
-/// an adaptive level: the larger of the plain jump's estimate scaled by
-/// `S/P` (the levels refine on the plain jumps `P`) and the
-/// [`two_level_estimate`] of the self-consistent jumps' own changes over the
-/// last levels (`changes`, most recent last). The correction `S − P` (the
-/// slave's properties at `θ̄c + ϑ̄c`) has a discretization error of its own,
-/// as large as the plain jump's and often of the other sign: on the 3D egg
-/// box between levels 3 and 4 it changed by 3 % to 10× the plain jump's
-/// change (docs/3d.md, "Stop 57"), so the scaled estimate alone does not
-/// estimate it.
-pub fn self_consistent_estimate(
-    plain_estimate: f64,
-    plain_jump: f64,
-    jump: f64,
-    changes: &[f64],
-    ratio: f64,
-) -> f64 {
-    let scaled = plain_estimate * (jump / plain_jump).abs();
-    match changes.split_last() {
-        Some((&d, previous)) => scaled.max(two_level_estimate(d, previous, ratio)),
-        None => scaled,
-    }
 }
 
 /// Solves every pressure of a case in order (one path); a failed point is
