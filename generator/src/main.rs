@@ -705,7 +705,7 @@ fn check(file: &std::path::Path, threads: Option<usize>) -> ExitCode {
             d.max_dofs,
             format_bytes(resources::memory_for(d.max_dofs, d.degree, dim)),
             tcgen::homogenize::path::newton_settings(&case).relative_tolerance,
-            tcgen::homogenize::path::NEWTON_TARGET_SHARE
+            tcgen::homogenize::path::newton_target_share(case.dimension())
         );
     }
     match resources::memory_limit() {

@@ -22,7 +22,7 @@ use crate::material::Material;
 use crate::quadrature::default_bulk_points;
 use crate::solve::dofs::{DofMap, DofMapBuilder};
 use crate::solve::linear::{Factorization, Ordering};
-use crate::solve::newton::NonlinearProblem;
+use crate::solve::newton::{NonlinearProblem, OrderingJob};
 use crate::solve::ordering::{KeptNodeOrders, node_orders_kept};
 use crate::solve::scales::Scales;
 use crate::{Error, Result};
@@ -87,6 +87,33 @@ enum FaceLoad {
     Traction([f64; 3]),
     /// Heat flux into the body per reference area (W/m²).
     Flux(f64),
+}
+
+/// The node orders of a mesh's last analysed system and the phase they were
+/// computed for ([`node_ordering`]).
+type KeptOrders = Mutex<Option<(Coupling, KeptNodeOrders)>>;
+
+/// [`Model::ordering`] of `pattern` (the equations at `coords`) for a
+/// symmetric factorization: the other phase's node orders in `kept` where
+/// they cover the nodes, else new ones, which `kept` then holds for
+/// `coupling`.
+fn node_ordering(
+    pattern: faer::sparse::SymbolicSparseColMatRef<'_, usize>,
+    coords: &[[f64; 3]],
+    kept: &KeptOrders,
+    coupling: Coupling,
+) -> Ordering {
+    let mut kept = kept.lock().unwrap_or_else(PoisonError::into_inner);
+    // The other phase's orders of the same nodes, where they cover them.
+    if let Some((other, orders)) = kept.as_ref()
+        && *other != coupling
+        && let Some(orders) = orders.orders(pattern, coords)
+    {
+        return Ordering::Fewest(orders);
+    }
+    let (orders, nodes) = node_orders_kept(pattern, coords);
+    *kept = Some((coupling, nodes));
+    Ordering::Fewest(orders)
 }
 
 /// Builds a [`Model`] from SI input.
@@ -478,7 +505,7 @@ impl ModelBuilder {
             elements: Vec::new(),
             eq_class: Vec::new(),
             eq_coords: Vec::new(),
-            kept_node_orders: Mutex::new(None),
+            kept_node_orders: Arc::new(Mutex::new(None)),
             symmetric_solvers: true,
             seams,
         };
@@ -551,7 +578,7 @@ pub struct Model {
     eq_coords: Vec<[f64; 3]>,
     /// The node orders of the last analysis, with the phase they were computed for: the other
     /// phase's analyses of the same mesh reuse them ([`KeptNodeOrders`]).
-    kept_node_orders: Mutex<Option<(Coupling, KeptNodeOrders)>>,
+    kept_node_orders: Arc<KeptOrders>,
     /// Whether symmetric tangents get Cholesky/LDLᵀ (else always LU).
     symmetric_solvers: bool,
     /// Seam penalty elements ([`ModelBuilder::smooth_seam`]), assembled
@@ -1514,24 +1541,26 @@ impl NonlinearProblem for Model {
     fn ordering(&self, kind: &Factorization) -> Ordering {
         match kind {
             Factorization::Lu => Ordering::Default,
-            _ => {
-                let pattern = self.assembly.symbolic();
-                let mut kept = self
-                    .kept_node_orders
-                    .lock()
-                    .unwrap_or_else(PoisonError::into_inner);
-                // The other phase's orders of the same nodes, where they cover them.
-                if let Some((coupling, orders)) = kept.as_ref()
-                    && *coupling != self.assembly_coupling
-                    && let Some(orders) = orders.orders(pattern, &self.eq_coords)
-                {
-                    return Ordering::Fewest(orders);
-                }
-                let (orders, nodes) = node_orders_kept(pattern, &self.eq_coords);
-                *kept = Some((self.assembly_coupling, nodes));
-                Ordering::Fewest(orders)
-            }
+            _ => node_ordering(
+                self.assembly.symbolic(),
+                &self.eq_coords,
+                &self.kept_node_orders,
+                self.assembly_coupling,
+            ),
         }
+    }
+
+    fn ordering_job(&self, kind: &Factorization) -> Option<OrderingJob> {
+        if matches!(kind, Factorization::Lu) {
+            return None;
+        }
+        let pattern = self.assembly.shared_pattern();
+        let coords = self.eq_coords.clone();
+        let kept = Arc::clone(&self.kept_node_orders);
+        let coupling = self.assembly_coupling;
+        Some(Box::new(move || {
+            node_ordering((*pattern).as_ref(), &coords, &kept, coupling)
+        }))
     }
 
     fn prepare(&mut self) -> Result<()> {

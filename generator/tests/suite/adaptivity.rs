@@ -450,6 +450,18 @@ fn self_consistency_stops_at_a_share_of_the_estimate_and_reports_it() {
     );
 }
 
+/// The relative difference of two converged results' jumps (the secant
+/// update's against the plain one's).
+fn converged_jump_difference(s: &PointResult, p: &PointResult) -> f64 {
+    assert!(
+        s.converged && p.converged,
+        "{:?} / {:?}",
+        s.status,
+        p.status
+    );
+    ((s.jump - p.jump) / p.jump).abs()
+}
+
 /// The first self-consistency iteration of the secant update solves its
 /// mechanical phase with one Newton increment only
 /// ([`tcgen::homogenize::path::PREDICTOR_INCREMENTS`]), and the iterations
@@ -490,13 +502,7 @@ fn self_consistency_ends_on_a_converged_mechanical_phase() {
         &format!("{tight}\nacceleration = \"none\"\nmax_iterations = 60"),
     ));
     for (s, p) in secant.iter().zip(&plain) {
-        assert!(
-            s.converged && p.converged,
-            "{:?} / {:?}",
-            s.status,
-            p.status
-        );
-        let difference = ((s.jump - p.jump) / p.jump).abs();
+        let difference = converged_jump_difference(s, p);
         println!(
             "{} Pa: jump {} K ({} iterations) against {} K ({}): {difference:.1e}",
             s.pressure,
@@ -508,4 +514,34 @@ fn self_consistency_ends_on_a_converged_mechanical_phase() {
         assert!(difference <= 1e-8, "{difference:e}");
         assert!(s.self_consistency_iterations < p.self_consistency_iterations);
     }
+}
+
+/// Where the predictor's state has converged already (its one Newton
+/// increment meets Newton's tolerance, here a loose 1e-4) and its output
+/// meets the self-consistency tolerance, the iterations end with that output:
+/// it is `F` of its input, the plain iteration's first output to round-off,
+/// and no second thermal phase is solved, so the secant update takes as many
+/// Newton iterations as the plain one (one thermal phase more before stop 59).
+#[test]
+fn a_converged_predictor_ends_the_iterations_with_its_own_output() {
+    let loose = |update: &str| {
+        format!(
+            "[homogenization]\ntolerance = 0.5\nacceleration = \"{update}\"\n\
+             [solver.newton]\nrelative_tolerance = 1.0e-4"
+        )
+    };
+    let secant = solve(&case("[1.0e4]", &loose("secant")));
+    let plain = solve(&case("[1.0e4]", &loose("none")));
+    let (s, p) = (&secant[0], &plain[0]);
+    let difference = converged_jump_difference(s, p);
+    println!(
+        "jump {} K against {} K: {difference:.1e}; Newton iterations {} against {}",
+        s.jump, p.jump, s.newton_iterations, p.newton_iterations
+    );
+    assert_eq!(
+        (s.self_consistency_iterations, p.self_consistency_iterations),
+        (2, 2)
+    );
+    assert!(difference <= 1e-10, "{difference:e}");
+    assert_eq!(s.newton_iterations, p.newton_iterations);
 }
