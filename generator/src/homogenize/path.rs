@@ -1074,7 +1074,7 @@ pub const NEWTON_TARGET_SHARE: f64 = 1e-3;
 /// level's increment costs 5–7 s (a tangent and a GMRES solve). Stop 59, the
 /// 3D benchmark's path: 259 Newton increments instead of 279, 638.6 against
 /// 671.9 s (one run each, back to back), the ten jumps within 5.5e-5
-/// (relative; at most 0.4 % of their estimates) and the estimates within
+/// (relative; at most 0.41 % of their estimates) and the estimates within
 /// 1.2e-2 of 1e-3's; the 72 kPa point's level 4 marked 125 776 unknowns
 /// instead of 127 888 (docs/3d.md, "Stop 59").
 pub const NEWTON_TARGET_SHARE_3D: f64 = 1e-2;
