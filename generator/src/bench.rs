@@ -1451,9 +1451,17 @@ pub struct EggBoxBenchRow {
     pub pressure: f64,
     /// Jump (K).
     pub jump: f64,
+    /// Estimated discretization error of the jump (K; adaptive runs).
+    pub jump_error: Option<f64>,
+    /// Whether the estimate met the target (adaptive runs).
+    pub error_target_met: Option<bool>,
+    /// Unknowns of the mesh of the jump (the last adaptive level's).
+    pub dofs: usize,
+    /// Refinement levels (upper, lower body) of that mesh.
+    pub levels: [usize; 2],
     /// Contact fraction.
     pub contact_fraction: f64,
-    /// Newton iterations of the point (all phases).
+    /// Newton iterations of the point (all phases and levels).
     pub newton_iterations: usize,
     /// Self-consistency iterations.
     pub self_consistency_iterations: usize,
@@ -1461,34 +1469,73 @@ pub struct EggBoxBenchRow {
     pub wall_s: f64,
 }
 
-/// The 3D egg-box benchmark: the path of `tables/egg_box_on_flat.toml`
-/// (two-phase self-consistent, 10 pressures from 1 kPa to `p*/2`), with the
-/// case's mesh refined `interface_levels` times at the interface: per
-/// pressure the jump, contact fraction, iterations and wall time; the
-/// unknowns, the time per phase and the peak resident memory.
-pub fn egg_box_bench(interface_levels: usize) -> Result<(usize, PhaseCost, Vec<EggBoxBenchRow>)> {
+/// Refinement levels at most of the 3D benchmark of issue 12 (`tcgen bench
+/// --only egg-box`; docs/3d.md, "The benchmark adaptive to 1 %").
+pub const EGG_BOX_BENCH_MAX_LEVELS: usize = 4;
+
+/// The 3D benchmark case of issue 12: `tables/egg_box_on_flat.toml` (the
+/// egg box on a flat, Table I material, p = 2, two-phase self-consistent,
+/// 10 pressures from 1 kPa to `p*/2`), adaptive to `target` with at most
+/// `max_levels` levels per pressure (`Some((target, max_levels))`), or on
+/// the case's fixed mesh refined `interface_levels` times at the interface
+/// (`None`).
+pub fn egg_box_case(
+    adaptive: Option<(f64, usize)>,
+    interface_levels: usize,
+) -> Result<crate::sample::Case> {
     let mut case = crate::sample::Case::from_toml(
         include_str!("../../tables/egg_box_on_flat.toml"),
         std::path::Path::new("."),
     )?;
-    case.discretization.interface_levels = interface_levels;
-    let mut solver = crate::homogenize::path::PathSolver::new(&case)?;
+    match adaptive {
+        Some((target, max_levels)) => {
+            if !(target > 0.0 && target < 1.0) {
+                return Err(Error::invalid(
+                    "--target",
+                    target,
+                    "a relative error in (0, 1)",
+                ));
+            }
+            if !(1..=crate::sample::case::MAX_LEVELS).contains(&max_levels) {
+                return Err(Error::invalid(
+                    "--max-levels",
+                    max_levels,
+                    format!("1..={}", crate::sample::case::MAX_LEVELS),
+                ));
+            }
+            case.discretization.target_error = Some(target);
+            case.discretization.max_levels = max_levels;
+        }
+        None => case.discretization.interface_levels = interface_levels,
+    }
+    case.validate()?;
+    Ok(case)
+}
+
+/// The 3D egg-box benchmark: the path of a case (`egg_box_case`), per
+/// pressure the jump, its estimate, the unknowns, contact fraction,
+/// iterations and wall time; and the time per phase, every adaptive level
+/// included.
+pub fn egg_box_bench(case: &crate::sample::Case) -> Result<(PhaseCost, Vec<EggBoxBenchRow>)> {
+    let mut solver = crate::homogenize::path::PathSolver::new(case)?;
     let mut rows = Vec::new();
-    let mut dofs = 0;
     for &p in &case.load.pressures {
         let t = Instant::now();
         let r = solver.solve_pressure(p)?;
-        dofs = r.dofs;
         rows.push(EggBoxBenchRow {
             pressure: p,
             jump: r.jump,
+            jump_error: r.jump_error,
+            error_target_met: r.error_target_met,
+            dofs: r.dofs,
+            levels: r.levels,
             contact_fraction: r.interface.contact_fraction,
             newton_iterations: r.newton_iterations,
             self_consistency_iterations: r.self_consistency_iterations,
             wall_s: t.elapsed().as_secs_f64(),
         });
     }
-    Ok((dofs, solver.phase_cost(), rows))
+    Ok((solver.phase_cost(), rows))
 }
 
 /// Peak resident memory of this process (bytes; Linux `VmHWM`), if known.
@@ -1496,38 +1543,92 @@ pub fn peak_resident_bytes() -> Option<u64> {
     crate::solve::resources::process_memory("VmHWM:")
 }
 
-/// The egg-box benchmark as text.
+/// The egg-box benchmark as text: per pressure, then the accuracy reached
+/// (the pressures whose estimate met the target, the largest estimate), the
+/// wall time per phase and the peak resident memory.
 pub fn format_egg_box_bench(
-    interface_levels: usize,
-    dofs: usize,
+    case: &crate::sample::Case,
     phases: PhaseCost,
     rows: &[EggBoxBenchRow],
 ) -> String {
-    let mut s = format!(
-        "3D egg box on a flat (tables/egg_box_on_flat.toml, p = 2, interface_levels = {interface_levels}): \
-         {dofs} unknowns, two-phase self-consistent\n\
-         {:>10} {:>10} {:>9} {:>7} {:>4} {:>8}\n",
-        "p (Pa)", "jump (K)", "fraction", "Newton", "SC", "wall s"
+    use std::fmt::Write;
+    let d = &case.discretization;
+    let mesh = match d.target_error {
+        Some(t) => format!(
+            "adaptive to {} % with at most {} levels",
+            100.0 * t,
+            d.max_levels
+        ),
+        None => format!("fixed mesh, interface_levels = {}", d.interface_levels),
+    };
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "3D egg box on a flat (tables/egg_box_on_flat.toml, p = 2, two-phase self-consistent), {mesh}"
+    );
+    let _ = writeln!(
+        s,
+        "{:>10} {:>10} {:>9} {:>4} {:>8} {:>7} {:>9} {:>7} {:>4} {:>8}",
+        "p (Pa)",
+        "jump (K)",
+        "estimate",
+        "met",
+        "unknowns",
+        "levels",
+        "fraction",
+        "Newton",
+        "SC",
+        "wall s"
     );
     for r in rows {
-        s += &format!(
-            "{:>10.4e} {:>10.5} {:>9.4} {:>7} {:>4} {:>8.2}\n",
+        let _ = writeln!(
+            s,
+            "{:>10.4e} {:>10.5} {:>9} {:>4} {:>8} {:>7} {:>9.4} {:>7} {:>4} {:>8.2}",
             r.pressure,
             r.jump,
+            r.jump_error
+                .map_or("-".into(), |e| format!("{:.2}%", 100.0 * e / r.jump.abs())),
+            match r.error_target_met {
+                Some(true) => "yes",
+                Some(false) => "no",
+                None => "-",
+            },
+            r.dofs,
+            format!("{},{}", r.levels[0], r.levels[1]),
             r.contact_fraction,
             r.newton_iterations,
             r.self_consistency_iterations,
             r.wall_s
         );
     }
+    if let Some(target) = d.target_error {
+        let met = rows
+            .iter()
+            .filter(|r| r.error_target_met == Some(true))
+            .count();
+        let largest = rows
+            .iter()
+            .filter_map(|r| r.jump_error.map(|e| e / r.jump.abs()))
+            .fold(0.0, f64::max);
+        let _ = writeln!(
+            s,
+            "accuracy: estimate within {} % at {met} of {} pressures; largest estimate {:.2} % of the jump",
+            100.0 * target,
+            rows.len(),
+            100.0 * largest
+        );
+    }
     let total: f64 = rows.iter().map(|r| r.wall_s).sum();
-    s += &format!(
+    let _ = write!(
+        s,
         "total {total:.1} s; mechanical phase {:.1} s ({} Newton iterations), thermal phase {:.1} s ({} iterations)",
         phases[0].0, phases[0].1, phases[1].0, phases[1].1
     );
     match peak_resident_bytes() {
-        Some(b) => s += &format!("; peak resident memory {:.0} MB\n", b as f64 / 1e6),
-        None => s += "\n",
+        Some(b) => {
+            let _ = writeln!(s, "; peak resident memory {:.0} MB", b as f64 / 1e6);
+        }
+        None => s.push('\n'),
     }
     s
 }
@@ -1535,6 +1636,28 @@ pub fn format_egg_box_bench(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The adaptive egg-box benchmark reports each point's estimate, levels
+    /// and unknowns, and its time per phase counts the Newton iterations of
+    /// every level (the refined levels' solvers included) and of the
+    /// self-consistency iterations.
+    #[test]
+    fn egg_box_bench_counts_every_adaptive_level() {
+        let mut case = egg_box_case(Some((0.01, 2)), 0).unwrap();
+        case.load.pressures = vec![1.0e3];
+        let (phases, rows) = egg_box_bench(&case).unwrap();
+        let r = &rows[0];
+        assert_eq!(r.levels, [2, 2]);
+        // Two levels do not resolve a spot of 1 % of the cell to 1 %.
+        assert!(r.jump_error.is_some_and(|e| e > 0.01 * r.jump));
+        assert_eq!(r.error_target_met, Some(false));
+        let counted: usize = phases.iter().map(|p| p.1).sum();
+        assert_eq!(counted, r.newton_iterations);
+        let text = format_egg_box_bench(&case, phases, &rows);
+        assert!(text.contains("at 0 of 1 pressures"), "{text}");
+        assert!(egg_box_case(Some((0.0, 4)), 0).is_err());
+        assert!(egg_box_case(Some((0.01, 13)), 0).is_err());
+    }
 
     /// The effectivity summary counts only resolved points of converged
     /// solves: its median, band and bound follow the indices.

@@ -156,16 +156,23 @@ enum Command {
         /// Finest uniform mesh (elements along x) of the accuracy benchmark.
         #[arg(long, default_value_t = 64)]
         finest: usize,
-        /// Target error of the effectivity benchmark.
+        /// Target error of the effectivity and egg-box benchmarks.
         #[arg(long, default_value_t = 0.01)]
         target: f64,
+        /// Refinement levels at most per pressure of the adaptive egg-box benchmark.
+        #[arg(long, default_value_t = tcgen::bench::EGG_BOX_BENCH_MAX_LEVELS)]
+        max_levels: usize,
+        /// The egg-box benchmark on the case's fixed mesh (refined `--levels`
+        /// times at the interface) instead of adaptive to `--target`.
+        #[arg(long)]
+        fixed: bool,
         /// Elements per direction (even) of the 3D solver benchmark's cubes.
         #[arg(long, value_delimiter = ',', default_values_t = vec![4usize, 8, 12, 16])]
         cube: Vec<usize>,
         /// NURBS degree of the 3D solver benchmark.
         #[arg(long, default_value_t = 2)]
         degree: usize,
-        /// Interface refinement levels of the 3D egg-box benchmark.
+        /// Interface refinement levels of the 3D egg-box benchmark with `--fixed`.
         #[arg(long, default_value_t = 0)]
         levels: usize,
     },
@@ -184,7 +191,8 @@ enum BenchPart {
     Effectivity,
     /// 3D direct solvers: factorization time and memory versus unknowns (p = 2 cube).
     Solvers3d,
-    /// The 3D egg box on a flat along 10 pressures (tables/egg_box_on_flat.toml).
+    /// The 3D egg box on a flat along 10 pressures (tables/egg_box_on_flat.toml),
+    /// adaptive to `--target` with at most `--max-levels` levels (issue 12's benchmark).
     EggBox,
 }
 
@@ -1042,13 +1050,24 @@ fn main() -> ExitCode {
             cube,
             degree,
             levels,
+            max_levels,
+            fixed,
         } => {
             let run = || -> tcgen::Result<()> {
                 if only == Some(BenchPart::EggBox) {
-                    let (dofs, phases, rows) = tcgen::bench::egg_box_bench(levels)?;
+                    if !fixed && levels > 0 {
+                        return Err(tcgen::Error::invalid(
+                            "--levels",
+                            levels,
+                            "0 unless --fixed (the adaptive benchmark refines by itself)",
+                        ));
+                    }
+                    let adaptive = (!fixed).then_some((target, max_levels));
+                    let case = tcgen::bench::egg_box_case(adaptive, levels)?;
+                    let (phases, rows) = tcgen::bench::egg_box_bench(&case)?;
                     print!(
                         "{}",
-                        tcgen::bench::format_egg_box_bench(levels, dofs, phases, &rows)
+                        tcgen::bench::format_egg_box_bench(&case, phases, &rows)
                     );
                     return Ok(());
                 }

@@ -273,9 +273,20 @@ impl<'a> PathSolver<'a> {
     }
 
     /// Wall time (s) and Newton iterations spent so far in the mechanical,
-    /// thermal and coupled phases (benchmarks).
+    /// thermal and coupled phases (benchmarks), the adaptive levels' solves
+    /// included.
     pub fn phase_cost(&self) -> PhaseCost {
         self.phase_cost
+    }
+
+    /// Moves the phase cost of `level` (an adaptive level's solver) into
+    /// this one's.
+    fn absorb_cost(&mut self, level: &mut PathSolver) {
+        for (total, part) in self.phase_cost.iter_mut().zip(&mut level.phase_cost) {
+            total.0 += part.0;
+            total.1 += part.1;
+            *part = (0.0, 0);
+        }
     }
 
     /// Newton iterations so far whose LDLᵀ fell back to LU ([`Newton::linear_fallbacks`]).
@@ -556,16 +567,9 @@ impl<'a> PathSolver<'a> {
             // `src` is prepared at its solved state: by `fitted` above (the
             // case mesh) or below (the previous level).
             let marks = mark_contact_edges(src, slave)?;
-            // The previous level's factors and caches are not needed while
-            // this one builds and solves (rebuilt should it be kept after a
-            // failure); freed first, so that this level reuses their memory.
-            if let Some(newton) = src_newton {
-                newton.release_solvers();
-                src.release_caches();
-            }
             let marked = clock.elapsed().as_secs_f64();
-            let bodies = refine_bodies(src_bodies, &marks).resolved(&heights, self.geometry.g0)?;
-            let refined = clock.elapsed().as_secs_f64();
+            let bodies = refine_bodies(src_bodies, &marks);
+            // Resolving the faces keeps the control points.
             let dofs = (src.dim + 1) * bodies.n_control_points();
             if dofs > d.max_dofs {
                 if trace {
@@ -573,9 +577,20 @@ impl<'a> PathSolver<'a> {
                         "adapt {pressure:e} Pa: level {level} would have {dofs} unknowns > max_dofs"
                     );
                 }
+                // The previous level stays the last, with its factors and
+                // caches (the self-consistency iterations run on it).
                 stop = format!("max_dofs: level {level} would have {dofs} unknowns");
                 break;
             }
+            // The previous level's factors and caches are not needed while
+            // this one builds and solves (rebuilt should it be kept after a
+            // failure); freed first, so that this level reuses their memory.
+            if let Some(newton) = src_newton {
+                newton.release_solvers();
+                src.release_caches();
+            }
+            let bodies = bodies.resolved(&heights, self.geometry.g0)?;
+            let refined = clock.elapsed().as_secs_f64();
             let mut next = PathSolver::with_bodies(case, self.geometry.clone(), bodies)?;
             let modelled = clock.elapsed().as_secs_f64();
             next.capture = self.capture;
@@ -586,7 +601,9 @@ impl<'a> PathSolver<'a> {
             transfer_state(src, &mut next.model);
             next.last_pressure = pressure;
             let built = clock.elapsed().as_secs_f64();
-            let solved = match next.solve_fluxes_on_mesh(pressure, fluxes, true, None) {
+            let solved = next.solve_fluxes_on_mesh(pressure, fluxes, true, None);
+            self.absorb_cost(&mut next);
+            let solved = match solved {
                 Ok(r) if r.iter().all(|r| r.converged) => r,
                 other => {
                     let why = match other {
@@ -672,7 +689,11 @@ impl<'a> PathSolver<'a> {
         if case.homogenization.method == Method::TwoPhaseSelfConsistent {
             let last = fine.as_mut().unwrap_or(self);
             let plain = best;
-            best = last.solve_fluxes_on_mesh(pressure, fluxes, false, estimate.as_deref())?;
+            let solved = last.solve_fluxes_on_mesh(pressure, fluxes, false, estimate.as_deref());
+            if let Some(f) = fine.as_mut() {
+                self.absorb_cost(f);
+            }
+            best = solved?;
             iterations += best.iter().map(|r| r.newton_iterations).max().unwrap_or(0);
             if let Some(f) = &fine {
                 // The slope measured on the final level, for the next pressure.

@@ -143,6 +143,12 @@ fn a_point_stopped_by_max_dofs_is_flagged_with_its_estimate() {
         (one[0].error_target_met, one[0].refinement_stop.as_deref()),
         (Some(false), Some("max_levels"))
     );
+    // The level before the one refused stays the last, as if it were the
+    // last allowed: the same jump and iterations.
+    assert_eq!(
+        (r.jump, r.newton_iterations),
+        (one[0].jump, one[0].newton_iterations)
+    );
     // A fixed mesh reports no estimate.
     let fixed = solve(&case("[1.0e3]", ""));
     assert_eq!(
