@@ -1478,7 +1478,7 @@ pub const EGG_BOX_BENCH_MAX_LEVELS: usize = 4;
 /// 10 pressures from 1 kPa to `p*/2`), adaptive to `target` with at most
 /// `max_levels` levels per pressure (`Some((target, max_levels))`), or on
 /// the case's fixed mesh refined `interface_levels` times at the interface
-/// (`None`).
+/// (`None`; the adaptive benchmark refines by itself, and takes 0).
 pub fn egg_box_case(
     adaptive: Option<(f64, usize)>,
     interface_levels: usize,
@@ -1488,6 +1488,13 @@ pub fn egg_box_case(
         std::path::Path::new("."),
     )?;
     match adaptive {
+        Some(_) if interface_levels > 0 => {
+            return Err(Error::invalid(
+                "--levels",
+                interface_levels,
+                "0 unless --fixed (the adaptive benchmark refines by itself)",
+            ));
+        }
         Some((target, max_levels)) => {
             if !(target > 0.0 && target < 1.0) {
                 return Err(Error::invalid(

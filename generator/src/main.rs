@@ -1055,13 +1055,6 @@ fn main() -> ExitCode {
         } => {
             let run = || -> tcgen::Result<()> {
                 if only == Some(BenchPart::EggBox) {
-                    if !fixed && levels > 0 {
-                        return Err(tcgen::Error::invalid(
-                            "--levels",
-                            levels,
-                            "0 unless --fixed (the adaptive benchmark refines by itself)",
-                        ));
-                    }
                     let adaptive = (!fixed).then_some((target, max_levels));
                     let case = tcgen::bench::egg_box_case(adaptive, levels)?;
                     let (phases, rows) = tcgen::bench::egg_box_bench(&case)?;
