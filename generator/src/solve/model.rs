@@ -504,7 +504,7 @@ impl ModelBuilder {
             kept_assembly: None,
             elements: Vec::new(),
             eq_class: Vec::new(),
-            eq_coords: Vec::new(),
+            eq_coords: Arc::new(Vec::new()),
             kept_node_orders: Arc::new(Mutex::new(None)),
             symmetric_solvers: true,
             seams,
@@ -575,7 +575,8 @@ pub struct Model {
     kept_assembly: Option<(Coupling, Assembly, Vec<bool>)>,
     elements: Vec<(usize, usize)>,
     eq_class: Vec<usize>,
-    eq_coords: Vec<[f64; 3]>,
+    /// Shared with the ordering jobs of the analyses ([`NonlinearProblem::ordering_job`]).
+    eq_coords: Arc<Vec<[f64; 3]>>,
     /// The node orders of the last analysis, with the phase they were computed for: the other
     /// phase's analyses of the same mesh reuse them ([`KeptNodeOrders`]).
     kept_node_orders: Arc<KeptOrders>,
@@ -807,7 +808,7 @@ impl Model {
                 }
             }
         }
-        self.eq_coords = coords;
+        self.eq_coords = Arc::new(coords);
         self.mark_assembly_stale();
         Ok(())
     }
@@ -1555,7 +1556,7 @@ impl NonlinearProblem for Model {
             return None;
         }
         let pattern = self.assembly.shared_pattern();
-        let coords = self.eq_coords.clone();
+        let coords = Arc::clone(&self.eq_coords);
         let kept = Arc::clone(&self.kept_node_orders);
         let coupling = self.assembly_coupling;
         Some(Box::new(move || {
