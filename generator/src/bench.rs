@@ -1496,20 +1496,8 @@ pub fn egg_box_case(
             ));
         }
         Some((target, max_levels)) => {
-            if !(target > 0.0 && target < 1.0) {
-                return Err(Error::invalid(
-                    "--target",
-                    target,
-                    "a relative error in (0, 1)",
-                ));
-            }
-            if !(1..=crate::sample::case::MAX_LEVELS).contains(&max_levels) {
-                return Err(Error::invalid(
-                    "--max-levels",
-                    max_levels,
-                    format!("1..={}", crate::sample::case::MAX_LEVELS),
-                ));
-            }
+            crate::sample::case::check_target_error("--target", target)?;
+            crate::sample::case::check_max_levels("--max-levels", max_levels)?;
             case.discretization.target_error = Some(target);
             case.discretization.max_levels = max_levels;
         }

@@ -585,10 +585,12 @@ impl<'a> PathSolver<'a> {
             // The previous level's factors and caches are not needed while
             // this one builds and solves (rebuilt should it be kept after a
             // failure); freed first, so that this level reuses their memory.
+            let releasing = clock.elapsed().as_secs_f64();
             if let Some(newton) = src_newton {
                 newton.release_solvers();
                 src.release_caches();
             }
+            let released = clock.elapsed().as_secs_f64() - releasing;
             let bodies = bodies.resolved(&heights, self.geometry.g0)?;
             let refined = clock.elapsed().as_secs_f64();
             let mut next = PathSolver::with_bodies(case, self.geometry.clone(), bodies)?;
@@ -661,13 +663,13 @@ impl<'a> PathSolver<'a> {
             best = solved;
             if trace {
                 eprintln!(
-                    "adapt {pressure:e} Pa: level {level}, {} unknowns, levels {:?}, jump {:?}, estimate {:?}, contact {:.5}, fitted regime {regime:?}; built in {built:.1} s (marks {marked:.1} s, refinement {:.1} s, model {:.1} s, transfer {:.1} s), solved in {:.1} s",
+                    "adapt {pressure:e} Pa: level {level}, {} unknowns, levels {:?}, jump {:?}, estimate {:?}, contact {:.5}, fitted regime {regime:?}; built in {built:.1} s (marks {marked:.1} s, refinement {:.1} s, previous level released {released:.1} s, model {:.1} s, transfer {:.1} s), solved in {:.1} s",
                     best[0].dofs,
                     best[0].levels,
                     best.iter().map(|r| r.jump).collect::<Vec<_>>(),
                     est,
                     best[0].interface.contact_fraction,
-                    refined - marked,
+                    refined - marked - released,
                     modelled - refined,
                     built - modelled,
                     clock.elapsed().as_secs_f64() - built

@@ -130,6 +130,32 @@ struct SurfaceTables {
 /// The most levels of local refinement (elements `2^-12` of the coarse ones).
 pub const MAX_LEVELS: usize = 12;
 
+/// A target error `t` (`[discretization] target_error`, or a command's
+/// flag `field`): a relative error in (0, 1).
+pub fn check_target_error(field: &str, t: f64) -> Result<()> {
+    if !(t.is_finite() && t > 0.0 && t < 1.0) {
+        return Err(Error::invalid(
+            field,
+            t,
+            "a relative error in (0, 1), e.g. 0.01",
+        ));
+    }
+    Ok(())
+}
+
+/// A number of adaptive levels `n` (`[discretization] max_levels`, or a
+/// command's flag `field`): 1..=[`MAX_LEVELS`].
+pub fn check_max_levels(field: &str, n: usize) -> Result<()> {
+    if !(1..=MAX_LEVELS).contains(&n) {
+        return Err(Error::invalid(
+            field,
+            n,
+            format!("an integer in 1..={MAX_LEVELS}"),
+        ));
+    }
+    Ok(())
+}
+
 /// `[discretization]`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default = "DiscretizationSection::unset", deny_unknown_fields)]
@@ -715,14 +741,8 @@ impl Case {
                 format!("an integer in 0..={MAX_LEVELS}"),
             ));
         }
-        if let Some(t) = d.target_error
-            && !(t.is_finite() && t > 0.0 && t < 1.0)
-        {
-            return Err(Error::invalid(
-                "discretization.target_error",
-                t,
-                "a relative error in (0, 1), e.g. 0.01",
-            ));
+        if let Some(t) = d.target_error {
+            check_target_error("discretization.target_error", t)?;
         }
         if d.target_error.is_some()
             && matches!(
@@ -743,13 +763,7 @@ impl Case {
                 "an integer ≥ 16",
             ));
         }
-        if !(1..=MAX_LEVELS).contains(&d.max_levels) {
-            return Err(Error::invalid(
-                "discretization.max_levels",
-                d.max_levels,
-                format!("an integer in 1..={MAX_LEVELS}"),
-            ));
-        }
+        check_max_levels("discretization.max_levels", d.max_levels)?;
         self.contact.validate()?;
         if self.load.pressures.is_empty() {
             return Err(Error::invalid(
