@@ -359,18 +359,19 @@ impl HeightMap {
     pub fn from_grid(rows: Vec<Vec<f64>>, width: f64, key: &str) -> Result<Self> {
         let ny = rows.len();
         let nx = rows.first().map_or(0, Vec::len);
-        if nx < 4 || ny < 4 {
-            return Err(Error::invalid(
-                key,
-                format!("{nx} x {ny} points"),
-                "at least 4 x 4 heights (one line per y row, the same count per line)",
-            ));
-        }
+        // Ragged first: a short map's size is only meaningful when its lines agree.
         if let Some(j) = rows.iter().position(|r| r.len() != nx) {
             return Err(Error::invalid(
                 key,
                 format!("line {} has {} values", j + 1, rows[j].len()),
                 format!("{nx} values per line, as on line 1 (a ragged map)"),
+            ));
+        }
+        if nx < 4 || ny < 4 {
+            return Err(Error::invalid(
+                key,
+                format!("{nx} x {ny} points"),
+                "at least 4 x 4 heights (one line per y row, the same count per line)",
             ));
         }
         let mut z: Vec<f64> = rows.into_iter().flatten().collect();
@@ -695,6 +696,11 @@ mod tests {
         assert!(rate > 3.7, "rate {rate}: {errors:?}");
         for (rows, needle) in [
             (vec![vec![0.0; 4]; 3], "4 x 4"),
+            // A short map that is also ragged: named as ragged.
+            (
+                vec![vec![0.0; 3], vec![0.0; 3], vec![0.0; 2]],
+                "line 3 has 2 values",
+            ),
             (
                 vec![vec![0.0; 4], vec![0.0; 4], vec![0.0; 5], vec![0.0; 4]],
                 "line 3 has 5 values",
