@@ -281,6 +281,14 @@ fn add_weight(pairs: &mut Vec<(usize, f64)>, i: usize, w: f64) {
 /// [`ZONE_MIN_SHARE`] of its area, the ranks are, from the top: in contact
 /// with at least that share, in contact with less, out of contact with at
 /// least that share, the rest.
+///
+/// Why: the `ψ^I` stay a partition of unity on the zone, and no edge element
+/// gets more constraints than its jump can meet (which would lock it to zero
+/// over the element); and a multiplier whose test function covers a sliver
+/// of its node's area is a near-zero pivot of the thermal system (22 of them,
+/// and no convergence, on the 3D egg box's first adaptive level; 4 where a
+/// fitted edge inside a node in contact left it 0.04–0.17 % of its area, at
+/// 39 kPa's fourth level, and LU took the thermal phase: 31 s against 1 s).
 fn zone_test_weights(
     points: &[SlavePoint],
     copy_of: &[usize],
@@ -1610,27 +1618,8 @@ impl ContactInterface {
         p: Vec<f64>,
         a: Vec<bool>,
     ) {
-        // Multipliers on the nodes of positive indicator only. A node that
-        // the zone reaches but whose indicator is not positive hands its
-        // test function, point by point, to the in-contact node of largest
-        // basis value there. The ψ^I stay a partition of unity on the zone,
-        // and no edge element gets more constraints than its jump can meet
-        // (which would lock it to zero over the whole element). Where the
-        // fitted edges take the zone beyond the supports of the nodes in
-        // contact, the nodes there keep their own test functions; but a
-        // multiplier of such a node whose test function covers less than
-        // [`ZONE_MIN_SHARE`] of its area would be a near-zero pivot of the
-        // thermal system (seen: 22 of them, and no convergence, on the egg
-        // box's first adaptive level): such a node hands its part to the
-        // point's heir too, and where no node of the point carries a
-        // multiplier the point's sliver of zone is left out. Nodes in
-        // contact carry theirs whatever their part, except where a node in
-        // contact with at least that share is at the same point: a fitted
-        // edge inside the support of a node of positive indicator leaves it
-        // a sliver (0.04-0.17 % of its area on the 3D egg box's fourth level
-        // at 39 kPa: 4 near-zero pivots, and the thermal phase factorized by
-        // LU, 31 s against 1 s), and such a node hands its part to the
-        // larger one there.
+        // Multipliers on the nodes of positive indicator, slivers handed
+        // on: the rule and its reasons at [`zone_test_weights`].
         let test = zone_test_weights(&points, &self.copy_of, &p, &zone.surface_area);
         let set = PointSet::new(points, Some(test), &self.copy_of);
         let mechanical = self.swap_points(set);
@@ -2556,6 +2545,7 @@ pub fn touching_elements(face: &ThbPatch, periodic: bool) -> Vec<Vec<usize>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::shapes::cuboid;
 
     /// The zone's test functions: a node in contact whose part of the zone
     /// is below `ZONE_MIN_SHARE` of its area hands it to a node in contact
@@ -2601,7 +2591,6 @@ mod tests {
         let weights = zone_test_weights(&points, &copy_of, &[1.0, 1.0, -1.0], &[1.0; 3]);
         assert_eq!(weights, vec![vec![(0, 0.6), (1, 0.4)]]);
     }
-    use crate::geometry::shapes::cuboid;
 
     /// The sampled golden-section search finds the minimizer to a few
     /// parts in 10⁹ of the bracket and evaluates the function once per
