@@ -15,11 +15,14 @@ use std::ops::Range;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::time::Instant;
 
+use rayon::prelude::*;
+
 use crate::homogenize::path::{PathSolver, PointResult, Status};
 use crate::io::table::{PointRecord, PointValues, SampleSurfaces};
 use crate::sample::Case;
 use crate::sample::case::Method;
 use crate::surface::Surface;
+use crate::surface::areal::ArealSurface;
 
 /// A piece of one path: the records of the pressures `from..from + points.len()`.
 #[derive(Clone, Debug, PartialEq)]
@@ -71,9 +74,31 @@ pub fn record(r: &PointResult) -> PointRecord {
 /// trigonometric polynomials of fewer than 2048 modes).
 pub fn surface_rms(s: &dyn Surface, width: f64) -> f64 {
     let n = 4096;
-    let (mut sum, mut sq) = (0.0, 0.0);
-    for i in 0..n {
-        let z = s.height(width * i as f64 / n as f64);
+    rms_of_samples((0..n).map(|i| s.height(width * i as f64 / n as f64)))
+}
+
+/// RMS of a periodic areal surface over the cell, from a 512 × 512 grid
+/// (exact for trigonometric polynomials of fewer than 256 modes along each
+/// direction).
+pub fn areal_surface_rms(s: &dyn ArealSurface, width: f64) -> f64 {
+    let n = 512;
+    let h = width / n as f64;
+    let rows: Vec<Vec<f64>> = (0..n)
+        .into_par_iter()
+        .map(|j| {
+            (0..n)
+                .map(|i| s.height(h * i as f64, h * j as f64))
+                .collect()
+        })
+        .collect();
+    rms_of_samples(rows.into_iter().flatten())
+}
+
+/// Root mean square about the mean of equally weighted samples.
+fn rms_of_samples(samples: impl Iterator<Item = f64>) -> f64 {
+    let (mut n, mut sum, mut sq) = (0usize, 0.0, 0.0);
+    for z in samples {
+        n += 1;
         sum += z;
         sq += z * z;
     }
@@ -82,9 +107,20 @@ pub fn surface_rms(s: &dyn Surface, width: f64) -> f64 {
 }
 
 /// The surface measures of a case's sample: RMS and NURBS fit errors at the
-/// case's discretization (`None` if a surface fails to build).
+/// case's discretization, profiles in 2D and areal surfaces in 3D (`None` if
+/// a surface fails to build).
 pub fn sample_surfaces(case: &Case) -> Option<SampleSurfaces> {
     let w = case.sample.width;
+    if case.dimension() == 3 {
+        let (up, lo) = case.areal_surfaces().ok()?;
+        let geo = crate::sample::micro::sample_geometry_3d(case, up.as_ref(), lo.as_ref()).ok()?;
+        return Some(SampleSurfaces {
+            upper_rms: areal_surface_rms(up.as_ref(), w),
+            lower_rms: areal_surface_rms(lo.as_ref(), w),
+            upper_fit_error: geo.fit_upper.max_error(),
+            lower_fit_error: geo.fit_lower.max_error(),
+        });
+    }
     let (up, lo) = case.surfaces().ok()?;
     let geo = crate::sample::micro::sample_geometry(case, up.as_ref(), lo.as_ref());
     Some(SampleSurfaces {

@@ -405,6 +405,23 @@ fn a_3d_case_is_checked_solved_tabled_and_mapped() {
     let t = swept(&sweep, &table);
     let p = t.points[0].values.expect("converged");
     assert!((p.jump - jump).abs() < 1e-9 * jump, "{} vs {jump}", p.jump);
+    // The sample's surfaces are measured in 3D as in 2D (until stop 63 the
+    // table held fill values there): the egg box's RMS, 1 μm, the largest
+    // error of its fit on these 3 × 3 elements, and the flat's zeros.
+    let s = t.surfaces[0].expect("the sample's surface measures");
+    assert!((s.upper_rms - 1.0e-6).abs() < 1e-12, "{}", s.upper_rms);
+    let c = tcgen::sample::Case::read(&solve_case).unwrap();
+    let (up, lo) = c.areal_surfaces().unwrap();
+    let geo = tcgen::sample::micro::sample_geometry_3d(&c, up.as_ref(), lo.as_ref()).unwrap();
+    assert_eq!(s.upper_fit_error, geo.fit_upper.max_error());
+    assert!(
+        s.upper_fit_error > 0.1e-6 && s.upper_fit_error < 1e-6,
+        "{s:?}"
+    );
+    assert!(
+        s.lower_rms.abs() < 1e-15 && s.lower_fit_error.abs() < 1e-15,
+        "{s:?}"
+    );
     let law = dir.join("t.tclaw");
     succeeded(tcgen().arg("law").arg("-o").arg(&law).arg(&table));
     let law = lookup::Law::open(&law).unwrap();
