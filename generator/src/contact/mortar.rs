@@ -246,11 +246,11 @@ impl DofIndex {
     }
 }
 
-/// The smallest share of a slave node's lumped area that the contact zone's
-/// test function of a node out of contact (the zone's fitted edges reach
-/// past the supports of the nodes in contact) may cover and carry a thermal
-/// multiplier ([`ContactInterface::freeze`] on the zone): below it the
-/// multiplier's row is a near-zero pivot of the thermal system.
+/// The smallest share of a slave node's lumped area that its test function
+/// on the contact zone may cover and carry a thermal multiplier: below it
+/// the multiplier's row is a near-zero pivot of the thermal system, and the
+/// node hands its part on (`zone_test_weights` says to whom, and when a
+/// node in contact keeps it: at first touch, where no larger node is there).
 pub const ZONE_MIN_SHARE: f64 = 0.05;
 
 /// Per slave node, the factors of its points' gap and jump Hessians in the

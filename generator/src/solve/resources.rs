@@ -13,11 +13,12 @@
 //! band of two layers; `4 · 2^l · n_x` in 2D).
 //!
 //! Memory: `B + c · N^1.1 · ((2p + 1)/5)^d`, about linear in the unknowns
-//! `N`. The factorizations are symmetric LDLᵀ on METIS orderings, large 3D
-//! ones in single precision, and beside their factors the bulk quadrature
+//! `N`. The factorizations are LDLᵀ on METIS orderings where the tangent is
+//! symmetric (every measured case), large 3D ones in single precision, and beside their factors the bulk quadrature
 //! and the assembled tangents hold as much again; so the peak grows about
 //! as the unknowns do, not as a fill-in exponent. Fitted on the peak
-//! resident memory (`/usr/bin/time`, stop 63, one process per mesh):
+//! resident memory (`/usr/bin/time`'s KiB × 1024, stop 63, one process per
+//! mesh):
 //!
 //! - 2D (`B` = 5 MB, `c` = 5 100 B): the Sect. 5.7 sample
 //!   (`tables/sinusoid_on_flat.toml`, p = 2, its 6-pressure path from 300 Pa
@@ -28,11 +29,11 @@
 //!   `tables/egg_box_on_flat.toml` at 100 kPa on fixed meshes of
 //!   `[n, n, n/2]` / `[n−1, n−1, n/2]` elements, n = 8 to 24: 188 MB,
 //!   312 MB, 1.05 GB, 1.19 GB and 1.92 GB at N = 4 544, 12 072, 25 168,
-//!   45 368 and 74 208 (the model 0.9–1.6 times that); and its adaptive
+//!   45 368 and 74 208 (the model 0.89–1.51 times that); and its adaptive
 //!   points at 72 kPa (levels 2–4, 22 752 to 125 776 unknowns on the last
 //!   level: 0.86, 2.35 and 5.01 GB) and at 21–132 kPa with the thermal
 //!   zone (level 5, 185 424 to 358 352 unknowns: 7.27 to 15.8 GB), where
-//!   it is within 7 %. The hierarchical levels couple more functions than
+//!   it is within 8 % (0.92–1.04). The hierarchical levels couple more functions than
 //!   a tensor mesh of as many unknowns, so the model is fitted to them and
 //!   is an upper estimate for tensor meshes. At p = 3 it gives 1.5 times
 //!   the 979 MB measured on `[12, 12, 6]`.
@@ -305,8 +306,8 @@ mod tests {
     /// 3D: `Π (n_i + p)` control points × 4 fields plus two multipliers per
     /// slave surface control point, and the memory model against the peaks
     /// it was fitted on (stop 63): the egg box on fixed `[n, n, n/2]` /
-    /// `[n−1, n−1, n/2]` meshes, which it over-estimates by up to 1.6
-    /// times, and its adaptive levels, within 7 %. The previous LU model
+    /// `[n−1, n−1, n/2]` meshes, 0.89–1.51 times their peaks, and its
+    /// adaptive levels, within 8 %. The previous LU model
     /// (`2 030 B · N^1.46`) gives 13.7 times the 1.92 GB of
     /// `[24, 24, 12]` and fails this.
     #[test]
