@@ -150,6 +150,12 @@ pub struct SurfaceProjection {
     pub distance: f64,
 }
 
+/// Periodic images of the master per direction beyond which a contact
+/// search is refused: a slave point that far from the sample is a diverged
+/// iterate (a search there once asked for 4.5 TB and aborted the process,
+/// the 3D egg box with segment-based integration).
+pub const MAX_IMAGES: usize = 64;
+
 /// Per-configuration search data: the bounding boxes of the master elements,
 /// the periods and where the parameter domain has seams.
 #[derive(Clone, Debug)]
@@ -314,14 +320,21 @@ impl MasterSearch {
     /// `reach` of the box `[lo, hi]`: every element that can hold the
     /// closest point of a point in that box at a distance up to `reach`
     /// (the elements listed by the grid's cells near the box, then the
-    /// exact distance between the boxes).
-    pub fn near_box(&self, lo: [f64; 3], hi: [f64; 3], reach: f64) -> Vec<(usize, [i64; 2])> {
+    /// exact distance between the boxes). An error where that takes more
+    /// than [`MAX_IMAGES`] periodic images per direction (a diverged
+    /// iterate).
+    pub fn near_box(
+        &self,
+        lo: [f64; 3],
+        hi: [f64; 3],
+        reach: f64,
+    ) -> Result<Vec<(usize, [i64; 2])>> {
         let centre = [0, 1, 2].map(|c| 0.5 * (lo[c] + hi[c]));
         let radius = reach + (0..2).map(|c| 0.5 * (hi[c] - lo[c])).fold(0.0, f64::max);
         let (wide_lo, wide_hi) = (lo.map(|v| v - reach), hi.map(|v| v + reach));
         let mut out = Vec::new();
         let mut near = Vec::new();
-        for k in self.images_between(wide_lo, wide_hi) {
+        for k in self.images_between(wide_lo, wide_hi)? {
             let shift = self.shift(k);
             near.clear();
             self.grid.near(sub(centre, shift), radius, &mut near);
@@ -340,31 +353,39 @@ impl MasterSearch {
                 }
             }
         }
-        out
+        Ok(out)
     }
 
     /// The periodic images of the master that may hold the closest point to `x`.
-    fn images(&self, x: [f64; 3]) -> Vec<[i64; 2]> {
+    fn images(&self, x: [f64; 3]) -> Result<Vec<[i64; 2]>> {
         self.images_between(x, x)
     }
 
     /// The periodic images of the master that may hold the closest point to
-    /// a point of the box `[lo, hi]`.
-    fn images_between(&self, lo: [f64; 3], hi: [f64; 3]) -> Vec<[i64; 2]> {
-        let range = |c: usize| -> Vec<i64> {
-            match self.periods[c] {
-                None => vec![0],
-                Some(w) => {
-                    let k0 = ((lo[c] - self.extent.1[c]) / w).floor() as i64;
-                    let k1 = ((hi[c] - self.extent.0[c]) / w).ceil() as i64;
-                    (k0..=k1).collect()
-                }
+    /// a point of the box `[lo, hi]`; an error for more than [`MAX_IMAGES`]
+    /// per direction or a box that is not finite.
+    fn images_between(&self, lo: [f64; 3], hi: [f64; 3]) -> Result<Vec<[i64; 2]>> {
+        let range = |c: usize| -> Result<std::ops::RangeInclusive<i64>> {
+            let Some(w) = self.periods[c] else {
+                return Ok(0..=0);
+            };
+            let (k0, k1) = (
+                ((lo[c] - self.extent.1[c]) / w).floor(),
+                ((hi[c] - self.extent.0[c]) / w).ceil(),
+            );
+            if !(k0.is_finite() && k1.is_finite()) || k1 - k0 >= MAX_IMAGES as f64 {
+                return Err(Error::Geometry(format!(
+                    "contact search over [{:e}, {:e}] along {}: more than {MAX_IMAGES} periodic \
+                     images of the master (the configuration has diverged)",
+                    lo[c],
+                    hi[c],
+                    ["x", "y"][c]
+                )));
             }
+            Ok(k0 as i64..=k1 as i64)
         };
-        let (kx, ky) = (range(0), range(1));
-        kx.iter()
-            .flat_map(|&i| ky.iter().map(move |&j| [i, j]))
-            .collect()
+        let (kx, ky) = (range(0)?, range(1)?);
+        Ok(kx.flat_map(|i| ky.clone().map(move |j| [i, j])).collect())
     }
 
     /// The physical shift of image `k`.
@@ -556,7 +577,7 @@ pub fn project(
         }
     };
     let n = surface.n_elements();
-    let images = search.images(x);
+    let images = search.images(x)?;
     // The first bound: the previous projection's element, or else the
     // element whose box is nearest among those over the point.
     let seed = match guess.filter(|g| g.element < n) {
@@ -925,6 +946,38 @@ mod tests {
     fn projection_distance_is_the_minimum_over_a_smooth_refined_surface() {
         check_against_brute_force(&wavy(2, 4, 0.06, true), 8, 3e-4, 40);
         check_against_brute_force(&wavy(3, 3, 0.1, false), 8, 3e-4, 40);
+    }
+
+    #[test]
+    fn a_search_far_past_the_periodic_sample_is_an_error_not_an_abort() {
+        // A unit-periodic master: a box within a few periods finds its
+        // images; one a million periods wide (a diverged iterate, which
+        // once asked for 4.5 TB) or not finite is refused with a reason.
+        let patch = wavy(2, 4, 0.1, false);
+        let s = surface(&patch);
+        let search = MasterSearch::new(&s, [Some(1.0), Some(1.0)]);
+        let near = search
+            .near_box([0.2, 0.2, 0.3], [0.4, 0.4, 0.3], 1.5)
+            .unwrap();
+        let images: std::collections::BTreeSet<[i64; 2]> = near.iter().map(|n| n.1).collect();
+        assert!(
+            images.contains(&[0, 0]) && images.contains(&[-1, 1]),
+            "{images:?}"
+        );
+        for (lo, hi, reach) in [
+            ([0.2, 0.2, 0.3], [0.4, 0.4, 0.3], 1e6),
+            ([-1e9, 0.2, 0.3], [0.4, 0.4, 0.3], 0.1),
+            ([0.2, 0.2, 0.3], [f64::INFINITY, 0.4, 0.3], 0.1),
+            ([0.2, f64::NAN, 0.3], [0.4, 0.4, 0.3], 0.1),
+        ] {
+            let e = search.near_box(lo, hi, reach).unwrap_err().to_string();
+            assert!(
+                e.contains("periodic images") && e.contains("diverged"),
+                "{e}"
+            );
+        }
+        let e = project(&s, &search, [0.3, f64::INFINITY, 0.2], None).unwrap_err();
+        assert!(e.to_string().contains("diverged"), "{e}");
     }
 
     #[test]

@@ -357,7 +357,7 @@ impl Segmenter {
             }
         }
         let pad = (0..3).map(|c| bh[c] - bl[c]).fold(0.0, f64::max) / s as f64;
-        let candidates = search.near_box(bl, bh, reach + pad);
+        let candidates = search.near_box(bl, bh, reach + pad)?;
         if candidates.len() <= 1 {
             return Ok(ElementCells::Whole);
         }

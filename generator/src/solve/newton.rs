@@ -1056,11 +1056,13 @@ mod tests {
 
     /// `R(x) = A x + c x³ − λ b` on a chain of `n` unknowns (`A` the tridiagonal
     /// `[−1, 2.5, −1]`): a symmetric tangent `A + 3c diag(x²)` that changes with
-    /// every iteration.
+    /// every iteration. With `refuse_beyond`, its preparation refuses states
+    /// beyond that bound (as the contact search refuses a diverged iterate).
     struct Chain {
         pattern: SymbolicSparseColMat<usize>,
         x: Vec<f64>,
         load: f64,
+        refuse_beyond: Option<f64>,
     }
 
     impl Chain {
@@ -1076,6 +1078,7 @@ mod tests {
                 pattern: SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx),
                 x: vec![0.0; n],
                 load: 0.0,
+                refuse_beyond: None,
             }
         }
     }
@@ -1096,6 +1099,15 @@ mod tests {
         }
         fn factorization(&self) -> Factorization {
             Factorization::Cholesky
+        }
+        fn prepare(&mut self) -> Result<()> {
+            match self
+                .refuse_beyond
+                .is_some_and(|b| self.x.iter().any(|x| x.abs() > b))
+            {
+                true => Err(Error::Geometry("past the search".into())),
+                false => Ok(()),
+            }
         }
         fn set_load(&mut self, load_factor: f64) {
             self.load = load_factor;
@@ -1338,6 +1350,31 @@ mod tests {
         );
         assert_eq!(analyses, factorized, "analysed when factorized only");
         for (a, b) in reused.iter().zip(&fresh) {
+            assert!((a - b).abs() <= 1e-9 * b.abs(), "{a} against {b}");
+        }
+    }
+
+    /// An iterate that cannot be prepared (the contact search's refusal of a
+    /// diverged one, [`crate::contact::projection3d::MAX_IMAGES`]) fails its
+    /// load step, which is cut back, as every error but missing memory: the
+    /// full step's first (linear) iterate overshoots the chain's solution
+    /// past the bound, the smaller steps reach the same solution.
+    #[test]
+    fn an_iterate_that_cannot_be_prepared_cuts_the_step_back() {
+        let mut plain = Chain::new(20);
+        let mut newton = Newton::new(NewtonSettings::default(), LoadStepping::default());
+        let steps = newton.solve(&mut plain).unwrap().steps.len();
+        let top = plain.x.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let mut p = Chain::new(20);
+        p.refuse_beyond = Some(1.2 * top);
+        let mut newton = Newton::new(NewtonSettings::default(), LoadStepping::default());
+        let history = newton.solve(&mut p).unwrap();
+        assert!(
+            history.steps.len() > steps,
+            "{} steps against {steps}",
+            history.steps.len()
+        );
+        for (a, b) in p.x.iter().zip(&plain.x) {
             assert!((a - b).abs() <= 1e-9 * b.abs(), "{a} against {b}");
         }
     }
