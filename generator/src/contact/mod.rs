@@ -96,10 +96,10 @@ pub enum Integration {
     Element,
     /// Slave elements split where the projection changes master piece; exact
     /// on C0 masters ([`segments`]); in 3D clipped by the master elements'
-    /// preimages.
+    /// preimages, split at the bisectors of C0 creases.
     Segment,
     /// Segment-based where the master has C0 corners (degree 1, repeated
-    /// knots), element-based otherwise.
+    /// knots), element-based otherwise; element-based in 3D.
     #[default]
     Auto,
 }

@@ -397,6 +397,65 @@ impl MasterSearch {
         ]
     }
 
+    /// The unit normal `a_1 × a_2 / |a_1 × a_2|` at a point `eta` of element
+    /// `e`'s boundary, averaged over the elements that meet there (two at
+    /// an edge, up to four at a vertex, across periodic seams; `e` alone
+    /// where `eta` is interior or at the end of a non-periodic master). At a
+    /// C0 crease of the master (degree 1, repeated knots) this is the
+    /// direction of the bisector of the two faces: the slave points along
+    /// `x_m(eta) + g n` are as far from the one face as from the other, so
+    /// the closest point passes from one element to the next there. Where
+    /// the master is C1 it is the element's own normal.
+    pub fn crease_normal(&self, ev: &mut SurfaceEvaluator, e: usize, eta: [f64; 2]) -> [f64; 3] {
+        let face = ev.surface.face;
+        let (lo, hi) = ev.surface.bounds(e);
+        // Per direction, the offsets probed: into `e` and, at its boundary,
+        // out of it.
+        let probes = |d: usize| -> Vec<f64> {
+            let eps = 1e-9 * (self.domain.1[d] - self.domain.0[d]);
+            if eta[d] <= lo[d] {
+                vec![eps, -eps]
+            } else if eta[d] >= hi[d] {
+                vec![-eps, eps]
+            } else {
+                vec![0.0]
+            }
+        };
+        let mut sum = [0.0; 3];
+        for s0 in probes(0) {
+            'probe: for s1 in probes(1) {
+                let (mut probe, mut at) = (eta, eta);
+                for (d, s) in [s0, s1].into_iter().enumerate() {
+                    probe[d] += s;
+                    let width = self.domain.1[d] - self.domain.0[d];
+                    let wrap = if probe[d] < self.domain.0[d] {
+                        width
+                    } else if probe[d] > self.domain.1[d] {
+                        -width
+                    } else {
+                        continue;
+                    };
+                    if !self.seams[d] {
+                        continue 'probe;
+                    }
+                    probe[d] += wrap;
+                    at[d] += wrap;
+                }
+                let n = face.locate(&probe);
+                let (l, h) = ev.surface.bounds(n);
+                let at = [0, 1].map(|d| at[d].clamp(l[d], h[d]));
+                let sp = ev.at(n, at);
+                let c = cross(sp.a[0], sp.a[1]);
+                let len = dot(c, c).sqrt();
+                for k in 0..3 {
+                    sum[k] += c[k] / len;
+                }
+            }
+        }
+        let len = dot(sum, sum).sqrt();
+        sum.map(|v| v / len)
+    }
+
     /// Distance from `x` to the bounding box of element `e`.
     fn lower_bound(&self, e: usize, x: [f64; 3]) -> f64 {
         let (lo, hi) = self.boxes[e];
@@ -405,6 +464,14 @@ impl MasterSearch {
             .sum::<f64>()
             .sqrt()
     }
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
 }
 
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
@@ -643,12 +710,39 @@ pub fn project(
             x[0], x[1], x[2]
         ))
     })?;
+    Ok(projection_at(&mut ev, search, x, (element, image, eta), d2))
+}
+
+/// The closest point to `x` on element `e` of image `k` alone: one side of
+/// a boundary between master pieces ([`crate::contact::segments::Crossing`]),
+/// where the gap of either piece is wanted.
+pub fn project_on_element(
+    surface: &MasterSurface,
+    search: &MasterSearch,
+    x: [f64; 3],
+    (e, k): crate::contact::segments::MasterPiece,
+) -> SurfaceProjection {
+    let mut ev = SurfaceEvaluator::new(*surface);
+    let (eta, d2) = element_minimum(&mut ev, e, sub(x, search.shift(k)), None);
+    projection_at(&mut ev, search, x, (e, k, eta), d2)
+}
+
+/// The projection of `x` at `eta` on element `element` of image `image`
+/// (`d2` the squared distance): which parameters are held at a C0 edge or
+/// vertex, or clamped at the end of a non-periodic master.
+fn projection_at(
+    ev: &mut SurfaceEvaluator,
+    search: &MasterSearch,
+    x: [f64; 3],
+    (element, image, eta): (usize, [i64; 2], [f64; 2]),
+    d2: f64,
+) -> SurfaceProjection {
     let shift = search.shift(image);
     let xs = sub(x, shift);
     let p = ev.at(element, eta);
     let r = sub(xs, p.x);
     let rn = dot(r, r).sqrt();
-    let (lo, hi) = surface.bounds(element);
+    let (lo, hi) = ev.surface.bounds(element);
     let mut fixed = [false; 2];
     let mut clamped = false;
     for d in 0..2 {
@@ -666,7 +760,7 @@ pub fn project(
             clamped = true;
         }
     }
-    Ok(SurfaceProjection {
+    SurfaceProjection {
         eta,
         element,
         image,
@@ -674,7 +768,7 @@ pub fn project(
         fixed,
         clamped,
         distance: d2.sqrt(),
-    })
+    }
 }
 
 #[cfg(test)]

@@ -163,6 +163,40 @@ const COVER_TOLERANCE: f64 = 1e-9;
 /// element-based points (the end of the master, or a kink).
 const WEDGE_LIMIT: f64 = 1e-2;
 
+/// Share of a slave element's area below which a clipped polygon is a
+/// sliver of round-off (at the periodic seams: widths of 1e-13 of the
+/// element, which the centroid fan cannot triangulate) and is dropped: far
+/// below [`COVER_TOLERANCE`], so the cover is not changed by it.
+const SLIVER_SHARE: f64 = 1e-11;
+
+/// A master element and the periodic image it is seen in: the piece a 3D
+/// cell measures its gaps on.
+pub type MasterPiece = (usize, [i64; 2]);
+
+/// A clipped cell: its polygon in the slave element's parameters and its
+/// master piece.
+type PieceCell = (Vec<clip::Point>, MasterPiece);
+
+/// A point of a boundary between two master pieces inside a slave element
+/// (3D): where the closest point passes from one master element (or
+/// periodic image) to the next. The weighted gaps' second derivatives
+/// take a term there for the boundary's motion (the 2D breakpoints' term,
+/// integrated along the boundary): `−∫ N^I (∇g_A − ∇g_B) ⊗ (∇g_A − ∇g_B) /
+/// ∂_ν(g_A − g_B)`, `ν` the boundary's normal from piece A into B in the
+/// slave parameters. Without it Newton converges at a crease of a C0
+/// master only linearly, and then diverges (the egg box at degree 1).
+#[derive(Clone, Debug)]
+pub struct Crossing {
+    /// The slave point; its weight is the Gauss weight times the chord's
+    /// parametric length times the reference area Jacobian, halved (each
+    /// boundary is met from the polygons on both its sides).
+    pub point: SlavePoint,
+    /// Derivatives of the slave basis along `ν`.
+    pub normal_basis: Vec<f64>,
+    /// The master pieces `(element, image)` on its two sides, A first.
+    pub pieces: [MasterPiece; 2],
+}
+
 /// What [`Segmenter::cells`] made of the slave elements.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Clipping {
@@ -178,8 +212,8 @@ pub struct Clipping {
 
 /// One slave element in 3D: its points, and which case it was.
 enum ElementCells {
-    Whole,
-    Clipped(Vec<SlavePoint>),
+    Whole(Option<MasterPiece>),
+    Clipped(Vec<SlavePoint>, Vec<Crossing>),
     ElementBased,
 }
 
@@ -273,7 +307,7 @@ impl Segmenter {
         surface: &MasterSurface,
         search: &MasterSearch,
         periodic: bool,
-    ) -> Result<(Vec<SlavePoint>, Clipping)> {
+    ) -> Result<(Vec<SlavePoint>, Vec<Crossing>, Clipping)> {
         let els = self.face.elements();
         let mut domain = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         for el in els {
@@ -286,21 +320,45 @@ impl Segmenter {
             .into_par_iter()
             .map(|e| self.element_cells(e, current, (domain, periodic), surface, search))
             .collect::<Result<Vec<_>>>()?;
-        let (mut out, mut count) = (Vec::new(), Clipping::default());
+        let (mut out, mut crossings, mut count) = (Vec::new(), Vec::new(), Clipping::default());
         for (e, c) in cells.into_iter().enumerate() {
             match c {
-                ElementCells::Clipped(points) => {
+                ElementCells::Clipped(points, on_boundaries) => {
                     count.clipped += 1;
                     out.extend(points);
+                    crossings.extend(on_boundaries);
                     continue;
                 }
-                ElementCells::Whole => count.whole += 1,
+                ElementCells::Whole(piece) => {
+                    count.whole += 1;
+                    // The fan of the box: the rule of a polygon that covers
+                    // it, into which it passes continuously when another
+                    // piece's preimage enters at a corner or an edge (the
+                    // tensor rule would jump by its quadrature error there:
+                    // a floor of 1e-9 under Newton's residual).
+                    let (lo, hi) = (&els[e].lower, &els[e].upper);
+                    let square = [
+                        [lo[0], lo[1]],
+                        [hi[0], lo[1]],
+                        [hi[0], hi[1]],
+                        [lo[0], hi[1]],
+                    ];
+                    let first = out.len();
+                    let rule = clip::triangles(&square)
+                        .into_iter()
+                        .flat_map(|t| clip::triangle_points(t, &self.rule));
+                    cell_points(&self.face, e, rule, &mut out);
+                    for p in &mut out[first..] {
+                        p.piece = piece;
+                    }
+                    continue;
+                }
                 ElementCells::ElementBased => count.element_based += 1,
             }
             let rule = self.box_rule(&els[e].lower, &els[e].upper, 1.0);
             cell_points(&self.face, e, rule, &mut out);
         }
-        Ok((out, count))
+        Ok((out, crossings, count))
     }
 
     /// The tensor Gauss rule on the parameter box `[lo, hi]` (first two
@@ -359,7 +417,7 @@ impl Segmenter {
         let pad = (0..3).map(|c| bh[c] - bl[c]).fold(0.0, f64::max) / s as f64;
         let candidates = search.near_box(bl, bh, reach + pad)?;
         if candidates.len() <= 1 {
-            return Ok(ElementCells::Whole);
+            return Ok(ElementCells::Whole(candidates.first().copied()));
         }
         let area = (hi[0] - lo[0]) * (hi[1] - lo[1]);
         let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
@@ -378,9 +436,7 @@ impl Segmenter {
                     let eta = [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])];
                     let sp = ev.at(m, eta);
                     let y = Vector3::from(sp.x) + shift;
-                    let n = Vector3::from(sp.a[0])
-                        .cross(&Vector3::from(sp.a[1]))
-                        .normalize();
+                    let n = Vector3::from(search.crease_normal(&mut ev, m, eta));
                     // Start from the sample nearest to this point.
                     let start = samples
                         .iter()
@@ -401,11 +457,13 @@ impl Segmenter {
             }
             let clipped = clip::simplify(clip::clip_to_box(&poly, lo, hi), tol);
             let a = clip::signed_area(&clipped);
-            if a > tol * size {
-                polygons.push(clipped);
+            // Slivers of round-off width (a master element's preimage
+            // meeting the slave's seam from the next image) are dropped.
+            if a > SLIVER_SHARE * area {
+                polygons.push((clipped, (m, k)));
             }
         }
-        let covered: f64 = polygons.iter().map(|p| clip::signed_area(p)).sum();
+        let covered: f64 = polygons.iter().map(|p| clip::signed_area(&p.0)).sum();
         let rest = area - covered;
         let limit = if periodic {
             WEDGE_LIMIT
@@ -416,24 +474,103 @@ impl Segmenter {
             return Ok(ElementCells::ElementBased);
         }
         if polygons.len() == 1 && rest.abs() <= COVER_TOLERANCE * area {
-            return Ok(ElementCells::Whole);
+            return Ok(ElementCells::Whole(Some(polygons[0].1)));
         }
         // The wedges over C0 kinks: the element's rule scaled to their area.
-        let mut rule = match rest.abs() > COVER_TOLERANCE * area {
-            true => self.box_rule(&lo, &hi, rest / area),
-            false => Vec::new(),
-        };
-        for poly in &polygons {
-            let Some(tris) = clip::triangles(poly) else {
-                return Ok(ElementCells::ElementBased);
-            };
-            for t in tris {
-                rule.extend(clip::triangle_points(t, &self.rule));
+        let mut out = Vec::new();
+        if rest.abs() > COVER_TOLERANCE * area {
+            cell_points(
+                &self.face,
+                e,
+                self.box_rule(&lo, &hi, rest / area),
+                &mut out,
+            );
+        }
+        // A polygon's points measure their gaps on its master piece.
+        for (poly, piece) in &polygons {
+            let first = out.len();
+            let rule = clip::triangles(poly)
+                .into_iter()
+                .flat_map(|t| clip::triangle_points(t, &self.rule));
+            cell_points(&self.face, e, rule, &mut out);
+            for p in &mut out[first..] {
+                p.piece = Some(*piece);
             }
         }
-        let mut out = Vec::with_capacity(rule.len());
-        cell_points(&self.face, e, rule, &mut out);
-        Ok(ElementCells::Clipped(out))
+        let crossings = self.crossings(e, &polygons, &mut slave, (surface, search))?;
+        Ok(ElementCells::Clipped(out, crossings))
+    }
+}
+
+impl Segmenter {
+    /// The [`Crossing`]s on the boundaries of slave element `e`'s clipped
+    /// `polygons` (each with its master piece) inside the element: the
+    /// piece across a chord is the closest point's just outside it.
+    fn crossings(
+        &self,
+        e: usize,
+        polygons: &[PieceCell],
+        slave: &mut SlaveSurface,
+        (surface, search): (&MasterSurface, &MasterSearch),
+    ) -> Result<Vec<Crossing>> {
+        let el = &self.face.elements()[e];
+        let (lo, hi) = ([el.lower[0], el.lower[1]], [el.upper[0], el.upper[1]]);
+        let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+        let on_box = |p: clip::Point, q: clip::Point| {
+            (0..2).any(|d| {
+                [lo[d], hi[d]]
+                    .iter()
+                    .any(|&b| (p[d] - b).abs() <= 1e-12 * size && (q[d] - b).abs() <= 1e-12 * size)
+            })
+        };
+        let cp = self.face.control_points();
+        let (mut scratch, mut basis) = (TensorBasis::default(), RationalBasis::default());
+        let mut out = Vec::new();
+        for (poly, piece) in polygons {
+            for i in 0..poly.len() {
+                let (p, q) = (poly[i], poly[(i + 1) % poly.len()]);
+                let d = [q[0] - p[0], q[1] - p[1]];
+                let length = d[0].hypot(d[1]);
+                if length <= 1e-12 * size || on_box(p, q) {
+                    continue;
+                }
+                // Outward for a counter-clockwise polygon.
+                let nu = [d[1] / length, -d[0] / length];
+                for (t, wq) in self.rule.on_interval(0.0, 1.0) {
+                    let xi = [p[0] + t * d[0], p[1] + t * d[1]];
+                    let outside = [0, 1].map(|k| xi[k] + 1e-7 * size * nu[k]);
+                    let x = slave.at(outside).0;
+                    let across = projection3d::project(surface, search, x.into(), None)?;
+                    if (across.element, across.image) == *piece {
+                        continue;
+                    }
+                    self.face
+                        .element_basis_into(e, &xi, 1, &mut scratch, &mut basis);
+                    let mut a = [Vector3::zeros(); 2];
+                    for (&g, d1) in basis.indices.iter().zip(&basis.d1) {
+                        for (k, a) in a.iter_mut().enumerate() {
+                            *a += d1[k] * Vector3::from(cp[g]);
+                        }
+                    }
+                    out.push(Crossing {
+                        point: SlavePoint {
+                            element: e,
+                            conn: basis.indices.clone(),
+                            basis: basis.values.clone(),
+                            weight: 0.5 * wq * length * a[0].cross(&a[1]).norm(),
+                            piece: None,
+                        },
+                        normal_basis: basis
+                            .d1
+                            .iter()
+                            .map(|g| nu[0] * g[0] + nu[1] * g[1])
+                            .collect(),
+                        pieces: [*piece, (across.element, across.image)],
+                    });
+                }
+            }
+        }
+        Ok(out)
     }
 }
 
@@ -461,6 +598,7 @@ pub fn interval_points(
             conn: basis.indices.clone(),
             basis: basis.values.clone(),
             weight: wq * t[0].hypot(t[1]),
+            piece: None,
         });
     }
 }
@@ -489,6 +627,7 @@ pub fn cell_points(
             conn: basis.indices.clone(),
             basis: basis.values.clone(),
             weight: wq * t[0].cross(&t[1]).norm(),
+            piece: None,
         });
     }
 }
@@ -585,8 +724,10 @@ mod tests {
             pieces: None,
         };
         let search = MasterSearch::new(&surface, [None, None]);
-        seg.cells(slave.control_points(), &surface, &search, false)
-            .unwrap()
+        let (points, _, clipping) = seg
+            .cells(slave.control_points(), &surface, &search, false)
+            .unwrap();
+        (points, clipping)
     }
 
     #[test]
