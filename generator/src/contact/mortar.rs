@@ -68,10 +68,11 @@ mod edge3d;
 /// converge quadratically on the points' own tangent; cells made again at
 /// every iteration move with the configuration in ways the tangent holds
 /// only in part (the crossings' term), and on the degree-1 egg box
-/// (`[12, 12, 6]`, 100 kPa) the residual went down to 3e-9 and then grew
-/// by 11 % per iteration; with cells kept below 1e-6 of an element the
-/// same (the increments along soft directions are larger); with 1e-3 it
-/// solves in 24 Newton iterations (docs/3d.md, "Stop 64"). The converged
+/// (`[12, 12, 6]`, 100 kPa) a re-solve's residual went down to 4.1e-11 and
+/// then grew by 13 % per iteration; with cells kept below 1e-6 of an
+/// element, down to 2.9e-9 and then 11 % (the increments along soft
+/// directions are larger than that); with 1e-3 it solves in 24 Newton
+/// iterations (docs/3d.md, "Stop 64"). The converged
 /// state's cells are those of a configuration within this share of an
 /// element of it.
 pub const CELL_MOTION_SHARE: f64 = 1e-3;

@@ -183,8 +183,8 @@ type PieceCell = (Vec<clip::Point>, MasterPiece);
 /// take a term there for the boundary's motion (the 2D breakpoints' term,
 /// integrated along the boundary): `−∫ N^I (∇g_A − ∇g_B) ⊗ (∇g_A − ∇g_B) /
 /// ∂_ν(g_A − g_B)`, `ν` the boundary's normal from piece A into B in the
-/// slave parameters. Without it Newton converges at a crease of a C0
-/// master only linearly, and then diverges (the egg box at degree 1).
+/// slave parameters. Without it, with the cells made at every iteration,
+/// Newton diverged on the degree-1 egg box (docs/3d.md, "Stop 64").
 #[derive(Clone, Debug)]
 pub struct Crossing {
     /// The slave point; its weight is the Gauss weight times the chord's
@@ -334,8 +334,7 @@ impl Segmenter {
                     // The fan of the box: the rule of a polygon that covers
                     // it, into which it passes continuously when another
                     // piece's preimage enters at a corner or an edge (the
-                    // tensor rule would jump by its quadrature error there:
-                    // a floor of 1e-9 under Newton's residual).
+                    // tensor rule would jump by its quadrature error there).
                     let (lo, hi) = (&els[e].lower, &els[e].upper);
                     let square = [
                         [lo[0], lo[1]],

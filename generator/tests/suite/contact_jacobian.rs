@@ -206,7 +206,8 @@ fn egg_box_p1(n: usize, phase: f64, pressures: &str) -> tcgen::sample::Case {
 /// `CELL_MOTION_SHARE` of an element) the residual is smooth and the
 /// points' tangent is its derivative. With the cells of stop 63 (each
 /// master element's preimage along its own normal, the global closest
-/// point) the error was 1.8e-4.
+/// point) the error was 2.5e-4, and 26 of the 36 slave elements fell back
+/// to element-based points (the test's `clipped` count fails there first).
 #[test]
 fn contact_tangent_matches_finite_differences_3d_over_creases() {
     let mut model = pressed(&egg_box_p1(6, 0.8, "3.0e4"), 3.0e4);
