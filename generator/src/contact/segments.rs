@@ -14,15 +14,17 @@
 //! clipped by the *preimages* of the master elements it sees (the slave
 //! points whose closest point lies on that element). A preimage's boundary
 //! is found by projecting sampled points of the master element's edges back
-//! along the master normal onto the slave surface (in its parameters), its
-//! polygon is clipped by the slave element's box, triangulated, and each
-//! triangle gets the collapsed Gauss rule. Where the preimages are
-//! straight in the slave parameters (flat interfaces, cylinders about a
-//! parametric axis) this is exact; where they are curved, the polygon's
-//! chords approximate them. In periodic samples the wedges over a master's
-//! C0 kinks (the seams, degree 1) get a scaled element rule
-//! (`WEDGE_LIMIT`); otherwise an element that the polygons do not cover
-//! (past the end of a non-periodic master, over a kink) keeps its
+//! along the master normal, averaged over the elements that meet there
+//! (the bisector of a C0 crease, [`MasterSearch::crease_normal`]), onto the
+//! slave surface (in its parameters); its polygon is clipped by the slave
+//! element's box, fanned from its centroid, and each triangle gets the
+//! collapsed Gauss rule; the points measure their gaps on that master
+//! element ([`SlavePoint::piece`]). Where the preimages are straight in the
+//! slave parameters (flat interfaces, cylinders about a parametric axis)
+//! this is exact; where they are curved, the polygon's chords approximate
+//! them. A mismatch left in a periodic sample's cover gets a scaled
+//! element rule (`WEDGE_LIMIT`); otherwise an element that the polygons do
+//! not cover (past the end of a non-periodic master) keeps its
 //! element-based points.
 //!
 //! The breakpoints follow the configuration; their motion is not
