@@ -289,6 +289,27 @@ pub struct HessianWeights {
     jump: Vec<f64>,
 }
 
+/// The node that carries Hessians tested by `pairs` (node, test weight):
+/// the one of largest weight, the first of equals; and `Σ w · f[j]` for
+/// each of the nodes' `factors` `f`. Points and break terms alike: the
+/// pattern couples every neighbour of a node in contact
+/// ([`ContactInterface::cover_active`]), so a carrier has an element.
+fn carried<const K: usize>(
+    pairs: impl Iterator<Item = (usize, f64)>,
+    factors: [&[f64]; K],
+) -> (usize, [f64; K]) {
+    let (mut carrier, mut best, mut sums) = (usize::MAX, f64::NEG_INFINITY, [0.0; K]);
+    for (j, w) in pairs {
+        if w > best {
+            (carrier, best) = (j, w);
+        }
+        for (s, f) in sums.iter_mut().zip(&factors) {
+            *s += w * f[j];
+        }
+    }
+    (carrier, sums)
+}
+
 /// Adds the weight `w` of node `i` to `pairs` (one entry per node).
 fn add_weight(pairs: &mut Vec<(usize, f64)>, i: usize, w: f64) {
     match pairs.iter_mut().find(|(j, _)| *j == i) {
@@ -1480,24 +1501,20 @@ impl ContactInterface {
     /// weight there, the first of equals) and their factors
     /// `Σ_I w^I(q) · weights^I` for the gap and the jump.
     fn point_hessian_factors(&self, q: usize, weights: &HessianWeights) -> (usize, f64, f64) {
-        let (mut carrier, mut best, mut cg, mut cj) = (usize::MAX, f64::NEG_INFINITY, 0.0, 0.0);
-        let mut visit = |j: usize, w: f64| {
-            if w > best {
-                (carrier, best) = (j, w);
-            }
-            cg += w * weights.gap[j];
-            cj += w * weights.jump[j];
-        };
-        match &self.test {
-            Some(t) => t[q].iter().for_each(|&(j, w)| visit(j, w)),
+        let factors = [&weights.gap[..], &weights.jump[..]];
+        let (carrier, [cg, cj]) = match &self.test {
+            Some(t) => carried(t[q].iter().copied(), factors),
             None => {
                 let p = &self.points[q];
-                p.conn
-                    .iter()
-                    .zip(&p.basis)
-                    .for_each(|(&j, &n)| visit(j, p.weight * n));
+                carried(
+                    p.conn
+                        .iter()
+                        .zip(&p.basis)
+                        .map(|(&j, &n)| (j, p.weight * n)),
+                    factors,
+                )
             }
-        }
+        };
         (carrier, cg, cj)
     }
 
@@ -2331,13 +2348,7 @@ impl ContactInterface {
             // Point-major: each break term once, in the element of the node
             // of its largest weight, with its nodes' factors.
             for t in &self.break_terms {
-                let (mut carrier, mut best, mut c) = (usize::MAX, f64::NEG_INFINITY, 0.0);
-                for &(j, w) in &t.nodes {
-                    if w > best {
-                        (carrier, best) = (j, w);
-                    }
-                    c += w * hw.gap[j];
-                }
+                let (carrier, [c]) = carried(t.nodes.iter().copied(), [&hw.gap[..]]);
                 if carrier != i || c == 0.0 {
                     continue;
                 }

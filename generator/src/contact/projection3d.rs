@@ -445,8 +445,8 @@ impl MasterSearch {
                 let (l, h) = ev.surface.bounds(n);
                 let at = [0, 1].map(|d| at[d].clamp(l[d], h[d]));
                 let sp = ev.at(n, at);
-                let c = cross(sp.a[0], sp.a[1]);
-                let len = dot(c, c).sqrt();
+                let c = nalgebra::Vector3::from(sp.a[0]).cross(&nalgebra::Vector3::from(sp.a[1]));
+                let len = c.norm();
                 for k in 0..3 {
                     sum[k] += c[k] / len;
                 }
@@ -464,14 +464,6 @@ impl MasterSearch {
             .sum::<f64>()
             .sqrt()
     }
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {

@@ -27,11 +27,13 @@
 //! not cover (past the end of a non-periodic master) keeps its
 //! element-based points.
 //!
-//! The breakpoints follow the configuration; their motion is not
-//! differentiated. First derivatives of the weighted gaps are exact anyway
-//! (the integrand is continuous across a breakpoint); the second derivatives
-//! miss the jump of the integrand's gradient times the breakpoint motion,
-//! which vanishes for a smooth master (3D: not added at all).
+//! The breakpoints follow the configuration. First derivatives of the
+//! weighted gaps are exact without their motion (the integrand is
+//! continuous across a breakpoint); the second derivatives take the jump of
+//! the integrand's gradient times the breakpoint motion as a term of its
+//! own, which vanishes for a smooth master (2D: at every breakpoint; 3D:
+//! at the [`Crossing`]s, and only where the cells were made again, kept
+//! cells not moving).
 
 use std::sync::Arc;
 
@@ -524,7 +526,6 @@ impl Segmenter {
                     .any(|&b| (p[d] - b).abs() <= 1e-12 * size && (q[d] - b).abs() <= 1e-12 * size)
             })
         };
-        let cp = self.face.control_points();
         let (mut scratch, mut basis) = (TensorBasis::default(), RationalBasis::default());
         let mut out = Vec::new();
         for (poly, piece) in polygons {
@@ -545,22 +546,14 @@ impl Segmenter {
                     if (across.element, across.image) == *piece {
                         continue;
                     }
-                    self.face
-                        .element_basis_into(e, &xi, 1, &mut scratch, &mut basis);
-                    let mut a = [Vector3::zeros(); 2];
-                    for (&g, d1) in basis.indices.iter().zip(&basis.d1) {
-                        for (k, a) in a.iter_mut().enumerate() {
-                            *a += d1[k] * Vector3::from(cp[g]);
-                        }
-                    }
+                    let point = slave_point(
+                        &self.face,
+                        e,
+                        (xi, 0.5 * wq * length),
+                        (&mut scratch, &mut basis),
+                    );
                     out.push(Crossing {
-                        point: SlavePoint {
-                            element: e,
-                            conn: basis.indices.clone(),
-                            basis: basis.values.clone(),
-                            weight: 0.5 * wq * length * a[0].cross(&a[1]).norm(),
-                            piece: None,
-                        },
+                        point,
                         normal_basis: basis
                             .d1
                             .iter()
@@ -614,22 +607,34 @@ pub fn cell_points(
     out: &mut Vec<SlavePoint>,
 ) {
     let (mut scratch, mut basis) = (TensorBasis::default(), RationalBasis::default());
+    for point in rule {
+        out.push(slave_point(face, e, point, (&mut scratch, &mut basis)));
+    }
+}
+
+/// The point `ξ` (parametric weight `w`) of element `e` of the slave face
+/// surface `face`, its weight times the reference area Jacobian
+/// `|∂x/∂ξ1 × ∂x/∂ξ2|`; `basis` keeps its basis and first derivatives.
+fn slave_point(
+    face: &ThbPatch,
+    e: usize,
+    (xi, w): ([f64; 2], f64),
+    (scratch, basis): (&mut TensorBasis, &mut RationalBasis),
+) -> SlavePoint {
+    face.element_basis_into(e, &xi, 1, scratch, basis);
     let cp = face.control_points();
-    for (xi, wq) in rule {
-        face.element_basis_into(e, &xi, 1, &mut scratch, &mut basis);
-        let mut t = [nalgebra::Vector3::zeros(); 2];
-        for (&g, d) in basis.indices.iter().zip(&basis.d1) {
-            for (k, t) in t.iter_mut().enumerate() {
-                *t += d[k] * nalgebra::Vector3::from(cp[g]);
-            }
+    let mut t = [Vector3::zeros(); 2];
+    for (&g, d) in basis.indices.iter().zip(&basis.d1) {
+        for (k, t) in t.iter_mut().enumerate() {
+            *t += d[k] * Vector3::from(cp[g]);
         }
-        out.push(SlavePoint {
-            element: e,
-            conn: basis.indices.clone(),
-            basis: basis.values.clone(),
-            weight: wq * t[0].cross(&t[1]).norm(),
-            piece: None,
-        });
+    }
+    SlavePoint {
+        element: e,
+        conn: basis.indices.clone(),
+        basis: basis.values.clone(),
+        weight: w * t[0].cross(&t[1]).norm(),
+        piece: None,
     }
 }
 
