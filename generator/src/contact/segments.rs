@@ -500,7 +500,7 @@ impl Segmenter {
                 p.piece = Some(*piece);
             }
         }
-        let crossings = self.crossings(e, &polygons, &mut slave, (surface, search))?;
+        let crossings = self.crossings(e, &polygons);
         Ok(ElementCells::Clipped(out, crossings))
     }
 }
@@ -508,14 +508,15 @@ impl Segmenter {
 impl Segmenter {
     /// The [`Crossing`]s on the boundaries of slave element `e`'s clipped
     /// `polygons` (each with its master piece) inside the element: the
-    /// piece across a chord is the closest point's just outside it.
-    fn crossings(
-        &self,
-        e: usize,
-        polygons: &[PieceCell],
-        slave: &mut SlaveSurface,
-        (surface, search): (&MasterSurface, &MasterSearch),
-    ) -> Result<Vec<Crossing>> {
+    /// piece across a chord is the polygon's on its other side. (Not the
+    /// closest point's just outside it: over a convex crease the closest
+    /// point of a fan of slave points is the crease itself, whichever
+    /// element the search names, and from one side the chord then seemed
+    /// to have its own piece across; such boundaries got half their term
+    /// or none, and the tangent missed up to half the cells' motion,
+    /// docs/3d.md, "Stop 66".) A chord with no polygon across it (an
+    /// uncovered wedge) has no term.
+    fn crossings(&self, e: usize, polygons: &[PieceCell]) -> Vec<Crossing> {
         let el = &self.face.elements()[e];
         let (lo, hi) = ([el.lower[0], el.lower[1]], [el.upper[0], el.upper[1]]);
         let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
@@ -528,7 +529,7 @@ impl Segmenter {
         };
         let (mut scratch, mut basis) = (TensorBasis::default(), RationalBasis::default());
         let mut out = Vec::new();
-        for (poly, piece) in polygons {
+        for (k, (poly, piece)) in polygons.iter().enumerate() {
             for i in 0..poly.len() {
                 let (p, q) = (poly[i], poly[(i + 1) % poly.len()]);
                 let d = [q[0] - p[0], q[1] - p[1]];
@@ -540,12 +541,15 @@ impl Segmenter {
                 let nu = [d[1] / length, -d[0] / length];
                 for (t, wq) in self.rule.on_interval(0.0, 1.0) {
                     let xi = [p[0] + t * d[0], p[1] + t * d[1]];
-                    let outside = [0, 1].map(|k| xi[k] + 1e-7 * size * nu[k]);
-                    let x = slave.at(outside).0;
-                    let across = projection3d::project(surface, search, x.into(), None)?;
-                    if (across.element, across.image) == *piece {
+                    let outside = [0, 1].map(|c| xi[c] + 1e-7 * size * nu[c]);
+                    let across = polygons
+                        .iter()
+                        .enumerate()
+                        .find(|(j, (other, _))| *j != k && clip::contains(other, outside))
+                        .map(|(_, (_, across))| *across);
+                    let Some(across) = across.filter(|a| a != piece) else {
                         continue;
-                    }
+                    };
                     let point = slave_point(
                         &self.face,
                         e,
@@ -559,12 +563,12 @@ impl Segmenter {
                             .iter()
                             .map(|g| nu[0] * g[0] + nu[1] * g[1])
                             .collect(),
-                        pieces: [*piece, (across.element, across.image)],
+                        pieces: [*piece, across],
                     });
                 }
             }
         }
-        Ok(out)
+        out
     }
 }
 

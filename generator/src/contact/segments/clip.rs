@@ -12,6 +12,20 @@ fn cross(a: Point, b: Point, c: Point) -> f64 {
     (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
 }
 
+/// Whether `p` lies inside the simple polygon `poly` (crossing number).
+pub fn contains(poly: &[Point], p: Point) -> bool {
+    let mut inside = false;
+    for (i, &a) in poly.iter().enumerate() {
+        let b = poly[(i + 1) % poly.len()];
+        if (a[1] > p[1]) != (b[1] > p[1])
+            && p[0] < a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0])
+        {
+            inside = !inside;
+        }
+    }
+    inside
+}
+
 /// Signed area (positive counter-clockwise), by the shoelace formula.
 pub fn signed_area(poly: &[Point]) -> f64 {
     let n = poly.len();
@@ -136,6 +150,29 @@ pub fn triangle_points(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn points_inside_a_non_convex_polygon_are_told_from_those_outside() {
+        // An L: the unit square without its upper right quarter.
+        let l = [
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [1.0, 0.5],
+            [0.5, 0.5],
+            [0.5, 1.0],
+            [0.0, 1.0],
+        ];
+        for (p, inside) in [
+            ([0.25, 0.25], true),
+            ([0.75, 0.25], true),
+            ([0.25, 0.75], true),
+            ([0.75, 0.75], false),
+            ([1.5, 0.25], false),
+            ([-0.1, 0.5], false),
+        ] {
+            assert_eq!(contains(&l, p), inside, "{p:?}");
+        }
+    }
 
     #[test]
     fn a_tilted_square_clipped_by_the_unit_box_has_the_area_of_the_overlap() {
