@@ -513,9 +513,8 @@ impl Segmenter {
     /// point of a fan of slave points is the crease itself, whichever
     /// element the search names, and from one side the chord then seemed
     /// to have its own piece across; such boundaries got half their term
-    /// or none, and the tangent missed up to half the cells' motion,
-    /// docs/3d.md, "Stop 66".) A chord with no polygon across it (an
-    /// uncovered wedge) has no term.
+    /// or none, docs/3d.md, "Stop 66".) A chord with no polygon across it
+    /// (an uncovered wedge) has no term.
     fn crossings(&self, e: usize, polygons: &[PieceCell]) -> Vec<Crossing> {
         let el = &self.face.elements()[e];
         let (lo, hi) = ([el.lower[0], el.lower[1]], [el.upper[0], el.upper[1]]);
