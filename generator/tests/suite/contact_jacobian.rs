@@ -271,8 +271,8 @@ fn every_point_of_a_node_in_contact_reaches_the_tangent_3d() {
 /// cells. Over the convex creases at the spots' rims the closest point
 /// just outside a cell's boundary is the crease itself, and until stop 66
 /// the crossing there was found from one side only (the piece across was
-/// the closest point's): the tangent held half the cells' motion or none,
-/// and Newton stalled at 19.7 kPa (its residual cycling between 3.6e-6
+/// the closest point's), so it got half its term or none, and Newton
+/// stalled at 19.7 kPa (its residual cycling between 3.6e-6
 /// and 5.3e-7 as the cells were made again). With the piece across taken
 /// from the polygon on the other side it solves in one load step.
 #[test]
