@@ -241,6 +241,9 @@ fn sweep(a: SweepArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    for c in cfg.case.cautions() {
+        eprintln!("caution: {c}");
+    }
     // Before any computing: the mesh fits in memory on every thread.
     let threads = a.threads.unwrap_or_else(rayon::current_num_threads);
     if let Err(e) = tcgen::solve::resources::check(&cfg.case, threads) {
@@ -716,6 +719,9 @@ fn check(file: &std::path::Path, threads: Option<usize>) -> ExitCode {
             tcgen::homogenize::path::newton_target_share(case.dimension())
         );
     }
+    for c in case.cautions() {
+        println!("# caution: {c}");
+    }
     match resources::memory_limit() {
         Ok(Some(limit)) => println!("# memory available: {}", format_bytes(limit)),
         Ok(None) => println!("# memory available: unknown (set TCGEN_MEMORY_LIMIT)"),
@@ -872,6 +878,9 @@ fn solve(path: &std::path::Path, json: bool, vtk: Option<std::path::PathBuf>) ->
             return ExitCode::from(2);
         }
     };
+    for c in case.cautions() {
+        eprintln!("caution: {c}");
+    }
     if let Err(e) = tcgen::solve::resources::check(&case, 1) {
         eprintln!("error: {e}");
         return ExitCode::from(2);

@@ -532,6 +532,39 @@ impl Case {
     pub fn dimension(&self) -> usize {
         self.sample.dimension
     }
+
+    /// Known limits that this configuration meets, one sentence each, for
+    /// `tcgen check`, `solve` and `sweep` to print before they start: a
+    /// valid case that the code is known to solve poorly or not at all.
+    pub fn cautions(&self) -> Vec<String> {
+        use crate::contact::Integration;
+        let d = &self.discretization;
+        let mut out = Vec::new();
+        if self.dimension() == 3 && d.degree == 1 {
+            if self.contact.integration != Integration::Segment {
+                out.push(
+                    "degree 1 in 3D: the contact's element-based points can stall under load \
+                     over the master's C0 creases (the egg box of tables/egg_box_on_flat.toml: \
+                     [12, 12, 6] at 60 kPa, [20, 20, 10] at 91 kPa); [contact] integration = \
+                     \"segment\" solves some of these meshes ([12, 12, 6]) at up to 5 times the \
+                     cost (docs/3d.md, \"3D contact at degree 1 under load\"); degree 2, the \
+                     default, is not concerned"
+                        .to_string(),
+                );
+            }
+            if d.target_error.is_some() {
+                out.push(
+                    "degree 1 in 3D: adaptive refinement (target_error) did not get past its \
+                     second level where measured (the third failed with element-based points, \
+                     and the self-consistency iterations on the level kept failed too; with \
+                     the segment cells it had not solved after 13 minutes; docs/3d.md, \
+                     \"Stop 67\"); fixed meshes (no target_error) avoid the levels"
+                        .to_string(),
+                );
+            }
+        }
+        out
+    }
     /// Reads and validates a case file.
     pub fn read(path: &Path) -> Result<Self> {
         let text = crate::error::read_text(path)?;

@@ -208,6 +208,17 @@ fn check_prints_the_resolved_case_and_refuses_what_cannot_fit() {
         assert!(out.contains(needle), "{needle:?} not in {out}");
     }
     let dir = scratch("check-resources");
+    // A valid case with a known limit says so (`Case::cautions`).
+    let p1 = dir.join("egg_box_p1.toml");
+    std::fs::write(
+        &p1,
+        std::fs::read_to_string(root.join("tables/egg_box_on_flat.toml"))
+            .unwrap()
+            .replace("degree = 2", "degree = 1"),
+    )
+    .unwrap();
+    let out = succeeded(tcgen().arg("check").arg(&p1));
+    assert!(out.contains("# caution: degree 1 in 3D"), "{out}");
     let huge = dir.join("huge.toml");
     std::fs::write(
         &huge,

@@ -432,3 +432,31 @@ fn errors_name_the_key() {
         assert!(e.contains(key), "{key}: {e}");
     }
 }
+
+/// Degree 1 in 3D is valid but known to stall under load with element-based
+/// contact points and to fail adaptive levels (docs/3d.md, "Stop 67"): the
+/// case says so before it runs; degree 2 and 2D say nothing.
+#[test]
+fn degree_1_in_3d_comes_with_its_cautions() {
+    let cautions = |extra: &str, base: &str| {
+        Case::from_toml(&format!("{base}{extra}"), Path::new("."))
+            .unwrap()
+            .cautions()
+    };
+    assert!(cautions("", EGG_BOX).is_empty());
+    assert!(cautions("[discretization]\ndegree = 1\n", MINIMAL).is_empty());
+    let c = cautions("[discretization]\ndegree = 1\n", EGG_BOX);
+    assert_eq!(c.len(), 1, "{c:?}");
+    assert!(c[0].contains("integration = \"segment\""), "{c:?}");
+    let c = cautions(
+        "[discretization]\ndegree = 1\ntarget_error = 0.01\n[contact]\nintegration = \"segment\"\n",
+        EGG_BOX,
+    );
+    assert_eq!(c.len(), 1, "{c:?}");
+    assert!(c[0].contains("adaptive refinement"), "{c:?}");
+    let c = cautions(
+        "[discretization]\ndegree = 1\ntarget_error = 0.01\n",
+        EGG_BOX,
+    );
+    assert_eq!(c.len(), 2, "{c:?}");
+}
