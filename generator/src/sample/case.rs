@@ -565,6 +565,7 @@ impl Case {
         }
         out
     }
+
     /// Reads and validates a case file.
     pub fn read(path: &Path) -> Result<Self> {
         let text = crate::error::read_text(path)?;
