@@ -232,6 +232,14 @@ fn failures_exit(failed: usize, allow: bool) -> ExitCode {
     }
 }
 
+/// The case's known limits ([`tcgen::sample::Case::cautions`]) on stderr,
+/// before a run starts.
+fn print_cautions(case: &tcgen::sample::Case) {
+    for c in case.cautions() {
+        eprintln!("caution: {c}");
+    }
+}
+
 fn sweep(a: SweepArgs) -> ExitCode {
     use tcgen::sweep::{ProgressMode, Shard, SweepConfig, SweepOptions, run_sweep};
     let cfg = match SweepConfig::read(&a.config) {
@@ -241,9 +249,7 @@ fn sweep(a: SweepArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    for c in cfg.case.cautions() {
-        eprintln!("caution: {c}");
-    }
+    print_cautions(&cfg.case);
     // Before any computing: the mesh fits in memory on every thread.
     let threads = a.threads.unwrap_or_else(rayon::current_num_threads);
     if let Err(e) = tcgen::solve::resources::check(&cfg.case, threads) {
@@ -878,9 +884,7 @@ fn solve(path: &std::path::Path, json: bool, vtk: Option<std::path::PathBuf>) ->
             return ExitCode::from(2);
         }
     };
-    for c in case.cautions() {
-        eprintln!("caution: {c}");
-    }
+    print_cautions(&case);
     if let Err(e) = tcgen::solve::resources::check(&case, 1) {
         eprintln!("error: {e}");
         return ExitCode::from(2);
