@@ -555,10 +555,11 @@ impl Case {
             if d.target_error.is_some() {
                 out.push(
                     "degree 1 in 3D: adaptive refinement (target_error) did not get past its \
-                     second level where measured (the third failed with element-based points, \
-                     and the self-consistency iterations on the level kept failed too; with \
-                     the segment cells it had not solved after 13 minutes; docs/3d.md, \
-                     \"Stop 67\"); fixed meshes (no target_error) avoid the levels"
+                     second level where measured (the third failed; with element-based points \
+                     the self-consistency iterations on the level kept failed too, so that the \
+                     point failed; with the segment cells the second level's result is kept, \
+                     flagged; docs/3d.md, \"Stop 68\"); fixed meshes (no target_error) avoid \
+                     the levels"
                         .to_string(),
                 );
             }

@@ -207,6 +207,15 @@ impl DofMap {
         }
     }
 
+    /// Whether every prescribed component of `initial` holds its value already
+    /// ([`DofMap::impose`] then leaves them where they are at every factor).
+    pub fn prescribed_in(&self, initial: &[f64]) -> bool {
+        self.dofs
+            .iter()
+            .zip(initial)
+            .all(|(d, &x)| !matches!(*d, Dof::Fixed(v) if v != x))
+    }
+
     /// Sets the prescribed components of `state` to `initial + factor (value − initial)`.
     pub fn impose(&self, state: &mut [f64], initial: &[f64], factor: f64) {
         for (s, d) in self.dofs.iter().enumerate() {

@@ -1591,6 +1591,10 @@ impl NonlinearProblem for Model {
             .impose(&mut self.state, &self.initial, load_factor);
     }
 
+    fn load_varies(&self) -> bool {
+        self.path.0 != self.path.1 || !self.dofs.prescribed_in(&self.initial)
+    }
+
     fn assemble(&mut self, mut values: Option<&mut [f64]>, residual: &mut [f64]) -> Result<()> {
         self.ensure_assembly();
         self.restore_quadrature();
@@ -1697,6 +1701,21 @@ mod tests {
             .solve(&mut model)
             .unwrap();
         model
+    }
+
+    /// The load varies along a path between different loads, or towards a
+    /// prescribed value not yet held (a new frozen temperature), and not
+    /// along a path that starts where it ends.
+    #[test]
+    fn a_path_varies_the_load_where_its_ends_differ() {
+        let mut model = sheared_block(true, true, 1.0e3);
+        model.set_path([1.0, 0.0], [1.0, 0.0]);
+        assert!(!model.load_varies());
+        model.set_path([0.0, 0.0], [1.0, 0.0]);
+        assert!(model.load_varies());
+        model.set_path([1.0, 0.0], [1.0, 0.0]);
+        model.set_frozen_temperature(0, 300.0);
+        assert!(model.load_varies());
     }
 
     /// A phase's equations keep their identifier when the phases alternate

@@ -65,6 +65,13 @@ pub trait NonlinearProblem: Send {
     }
     /// Applies the prescribed values and loads of load factor `λ`.
     fn set_load(&mut self, load_factor: f64);
+    /// Whether [`NonlinearProblem::set_load`] changes the problem. Where it does not (a
+    /// re-solve at the same loads and prescribed values from a state carried over to a new
+    /// mesh), a smaller load step poses the same problem again, and [`Newton::solve_path`]
+    /// does not cut back.
+    fn load_varies(&self) -> bool {
+        true
+    }
     /// Residual (and tangent values when `values` is given) at the current state.
     /// Newton calls it for the residual alone first, and again with `values`
     /// when an iteration follows: a repeat at the same state must give the same
@@ -907,7 +914,12 @@ impl Newton {
         self.solve_path(p, 0.0, 1.0)
     }
 
-    /// Like [`Newton::solve`], from load factor `from` to `to`.
+    /// Like [`Newton::solve`], from load factor `from` to `to`. A problem whose
+    /// load does not vary ([`NonlinearProblem::load_varies`]) fails with its first
+    /// failure: a cut-back step would pose the same problem from the same state,
+    /// and fail the same way (the re-solve of the adaptive egg box's third level
+    /// at degree 1 repeated its 30 iterations nine times, to the same residuals
+    /// within 1e-12, before the step fell below `min_step`).
     pub fn solve_path<P: NonlinearProblem + ?Sized>(
         &mut self,
         p: &mut P,
@@ -942,6 +954,12 @@ impl Newton {
                     }
                 }
                 Err(e @ Error::OutOfMemory { .. }) => return Err(e),
+                Err(e) if !p.load_varies() => {
+                    if std::env::var_os("TCGEN_TRACE").is_some() {
+                        eprintln!("  at a constant load, no cut back: {e}");
+                    }
+                    return Err(e);
+                }
                 Err(e) => {
                     if std::env::var_os("TCGEN_TRACE").is_some() {
                         eprintln!("  cut back from λ={target:.4}: {e}");
@@ -1063,6 +1081,10 @@ mod tests {
         x: Vec<f64>,
         load: f64,
         refuse_beyond: Option<f64>,
+        /// A load that [`NonlinearProblem::set_load`] does not change.
+        constant_load: Option<f64>,
+        /// Calls of [`NonlinearProblem::prepare`].
+        prepared: usize,
     }
 
     impl Chain {
@@ -1079,6 +1101,8 @@ mod tests {
                 x: vec![0.0; n],
                 load: 0.0,
                 refuse_beyond: None,
+                constant_load: None,
+                prepared: 0,
             }
         }
     }
@@ -1101,6 +1125,7 @@ mod tests {
             Factorization::Cholesky
         }
         fn prepare(&mut self) -> Result<()> {
+            self.prepared += 1;
             match self
                 .refuse_beyond
                 .is_some_and(|b| self.x.iter().any(|x| x.abs() > b))
@@ -1110,7 +1135,10 @@ mod tests {
             }
         }
         fn set_load(&mut self, load_factor: f64) {
-            self.load = load_factor;
+            self.load = self.constant_load.unwrap_or(load_factor);
+        }
+        fn load_varies(&self) -> bool {
+            self.constant_load.is_none()
         }
         fn assemble(&mut self, values: Option<&mut [f64]>, residual: &mut [f64]) -> Result<()> {
             let n = self.x.len();
@@ -1374,6 +1402,36 @@ mod tests {
             "{} steps against {steps}",
             history.steps.len()
         );
+        for (a, b) in p.x.iter().zip(&plain.x) {
+            assert!((a - b).abs() <= 1e-9 * b.abs(), "{a} against {b}");
+        }
+    }
+
+    /// A problem whose load does not vary fails with its first failure: the
+    /// cut-back steps would repeat it. [`Chain`] at a constant full load, its
+    /// first iterate refused as above: one attempt (two preparations, the
+    /// start and the refused iterate), the refusal as the error; with the
+    /// same load ramped, the steps are cut back and solve it.
+    #[test]
+    fn a_constant_load_is_not_cut_back() {
+        let mut plain = Chain::new(20);
+        Newton::new(NewtonSettings::default(), LoadStepping::default())
+            .solve(&mut plain)
+            .unwrap();
+        let top = plain.x.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let mut p = Chain::new(20);
+        p.refuse_beyond = Some(1.2 * top);
+        p.constant_load = Some(1.0);
+        let mut newton = Newton::new(NewtonSettings::default(), LoadStepping::default());
+        match newton.solve(&mut p) {
+            Err(Error::Geometry(m)) => assert_eq!(m, "past the search"),
+            other => panic!("expected the first failure, got {other:?}"),
+        }
+        assert_eq!(p.prepared, 2);
+        p.constant_load = None;
+        p.x.iter_mut().for_each(|x| *x = 0.0);
+        let history = newton.solve(&mut p).unwrap();
+        assert!(history.cutbacks > 0);
         for (a, b) in p.x.iter().zip(&plain.x) {
             assert!((a - b).abs() <= 1e-9 * b.abs(), "{a} against {b}");
         }
