@@ -897,10 +897,16 @@ impl Newton {
             .last()
             .map(|h| h.residuals.clone())
             .unwrap_or_default();
+        // Each class's residual, and its tolerance where the residual is above it.
+        let targets = targets.unwrap_or_default();
         let detail: Vec<String> = names
             .iter()
             .zip(&last)
-            .map(|(n, v)| format!("{n} {v:.3e}"))
+            .enumerate()
+            .map(|(i, (n, v))| match targets.get(i) {
+                Some(t) if v > t => format!("{n} {v:.3e} > {t:.3e}"),
+                _ => format!("{n} {v:.3e}"),
+            })
             .collect();
         Err(fail(
             self.settings.max_iterations,
@@ -1434,6 +1440,36 @@ mod tests {
         assert!(history.cutbacks > 0);
         for (a, b) in p.x.iter().zip(&plain.x) {
             assert!((a - b).abs() <= 1e-9 * b.abs(), "{a} against {b}");
+        }
+    }
+
+    /// A solve that runs out of iterations names each residual above its
+    /// tolerance with the tolerance (the classes at or below it without one).
+    #[test]
+    fn an_unconverged_solve_names_the_tolerance_it_missed() {
+        let mut p = Chain::new(20);
+        p.constant_load = Some(1.0);
+        let settings = NewtonSettings {
+            max_iterations: 2,
+            ..NewtonSettings::default()
+        };
+        let mut newton = Newton::new(settings, LoadStepping::default());
+        // The chain's load norm at load 1.
+        let load_norm = 20f64.sqrt();
+        match newton.solve(&mut p) {
+            Err(Error::NewtonDiverged { reason, .. }) => {
+                let (residual, tolerance) = reason
+                    .strip_prefix("no convergence; residuals x ")
+                    .and_then(|r| r.split_once(" > "))
+                    .unwrap_or_else(|| panic!("{reason}"));
+                let (residual, tolerance): (f64, f64) =
+                    (residual.parse().unwrap(), tolerance.parse().unwrap());
+                assert!(residual > tolerance, "{reason}");
+                // Relative to the first residual or the load, whichever is
+                // larger (printed to 4 digits).
+                assert!(tolerance >= 1e-10 * load_norm * (1.0 - 1e-3), "{reason}");
+            }
+            other => panic!("expected no convergence, got {other:?}"),
         }
     }
 
