@@ -16,7 +16,10 @@
 //! supports, not yet in the active set); and, every [`INTERIOR_LEVEL_RATIO`]
 //! levels, the elements inside the contact, whose smooth fields converge
 //! faster than the edges'. Where no edge exists (no or full contact) the whole
-//! interface layer is marked. Each volume element at a marked face element
+//! interface layer is marked. **Surface resolution** ([`surface_misfit_marks`]):
+//! the elements out of contact whose gap is below the faces' height error
+//! against the exact surfaces, where the fits may hide a touch (a narrow
+//! asperity that the case mesh flattens). Each volume element at a marked face element
 //! is halved in every direction, with the elements below it down to about its
 //! width ([`column()`]: a refined region as deep as wide on case cells wider
 //! than tall); class-2 admissibility grades the mesh through the height.
@@ -34,7 +37,7 @@ use std::collections::BTreeSet;
 
 use crate::contact::ContactInterface;
 use crate::geometry::{Cell, Side, ThbPatch};
-use crate::sample::micro::{Bodies, LOWER, UPPER};
+use crate::sample::micro::{Bodies, Height, LOWER, UPPER};
 use crate::solve::Model;
 use crate::{Error, Result};
 
@@ -125,7 +128,11 @@ pub fn column(patch: &ThbPatch, c: Cell, normal: usize, side: Side) -> Vec<Cell>
 /// The contact-edge marks of a solved model whose contact interface is
 /// prepared at the current state (point projections up to date); `slave`
 /// the index of the slave body ([`LOWER`] or [`UPPER`]).
-pub fn mark_contact_edges(model: &Model, slave: usize) -> Result<Marks> {
+///
+/// `misfit`: slave face elements out of contact to mark as well
+/// ([`surface_misfit_marks`]: where the fitted faces may hide a touch of the
+/// exact surfaces).
+pub fn mark_contact_edges(model: &Model, slave: usize, misfit: &BTreeSet<usize>) -> Result<Marks> {
     let c: &ContactInterface = model
         .contact
         .as_ref()
@@ -162,6 +169,7 @@ pub fn mark_contact_edges(model: &Model, slave: usize) -> Result<Marks> {
             (inside > 0 && inside < el.functions.len())
                 || (inside == 0 && penetrating.contains(e))
                 || (inside == el.functions.len() && el.cell.level < interior_level)
+                || misfit.contains(e)
         })
         .map(|(e, _)| e)
         .collect();
@@ -193,6 +201,113 @@ pub fn mark_contact_edges(model: &Model, slave: usize) -> Result<Marks> {
         }
     }
     Ok(marks)
+}
+
+/// Points per direction and face element at which [`surface_misfit_marks`]
+/// compares a face with its exact surface (as the fits' own error sample).
+pub const MISFIT_SAMPLES: usize = 8;
+
+/// The slave face elements out of contact where the fitted faces may hide a
+/// touch of the exact surfaces (the surface-resolution indicator): the gap
+/// at the element's integration points is below the faces' height error
+/// there, `min g < max |e_s| + max |e_m|`, with `e_s` the slave face's
+/// error on the element and `e_m` the master's on the elements its points
+/// see (each sampled at [`MISFIT_SAMPLES`] points per direction). A refined
+/// level resolves its faces on the exact surfaces
+/// ([`crate::sample::micro::Bodies::resolved`]), but only where it refines:
+/// an asperity narrower than the case mesh, which its fit flattens, would
+/// otherwise stay out of contact on every level, its contact spot missed
+/// and the differences between levels blind to it. `heights` are the exact
+/// surfaces `(f1, f2)` (m), the upper face at `f1 + g0`; `bound` (m) a bound
+/// on the faces' error (the case fits', with a margin): elements whose gap
+/// exceeds it are not sampled. The model's contact is prepared at its
+/// solved state.
+pub fn surface_misfit_marks(
+    model: &Model,
+    slave: usize,
+    heights: &(Height, Height),
+    g0: f64,
+    bound: f64,
+) -> Result<BTreeSet<usize>> {
+    let c: &ContactInterface = model
+        .contact
+        .as_ref()
+        .ok_or_else(|| Error::Geometry("adaptivity needs a contact interface".into()))?;
+    let master = if slave == UPPER { LOWER } else { UPPER };
+    let l = model.scales.length;
+    let vertical = model.dim - 1;
+    let target = |body: usize, x: &[f64; 3]| {
+        let y = if model.dim == 3 { x[1] } else { 0.0 };
+        if body == UPPER {
+            (heights.0)(x[0], y) + g0
+        } else {
+            (heights.1)(x[0], y)
+        }
+    };
+    // The largest height error of a face element (m), on a grid of samples.
+    let misfit = |face: &ThbPatch, body: usize, e: usize| -> f64 {
+        let el = &face.elements()[e];
+        let dims = face.param_dim();
+        let n = MISFIT_SAMPLES;
+        let count = n.pow(dims as u32);
+        (0..count)
+            .map(|k| {
+                let mut xi = [0.0; 2];
+                let mut rest = k;
+                for (d, v) in xi.iter_mut().enumerate().take(dims) {
+                    let t = ((rest % n) as f64 + 0.5) / n as f64;
+                    rest /= n;
+                    *v = el.lower[d] + t * (el.upper[d] - el.lower[d]);
+                }
+                let x = face.point(&xi[..dims]).map(|v| v * l);
+                (target(body, &x) - x[vertical]).abs()
+            })
+            .fold(0.0, f64::max)
+    };
+    let (sface, mface) = (c.slave_face(), c.master_face());
+    let indicator: Vec<f64> = (0..c.n_slave()).map(|i| c.indicator(i)).collect();
+    // Per slave element out of contact: its smallest gap (m) and the master
+    // elements its points see.
+    let mut near: std::collections::BTreeMap<usize, (f64, BTreeSet<usize>)> = Default::default();
+    for (p, st) in c.points.iter().zip(&c.state) {
+        let g = st.gap.value * l;
+        if g >= bound {
+            continue;
+        }
+        let entry = near
+            .entry(p.element)
+            .or_insert((f64::INFINITY, BTreeSet::new()));
+        entry.0 = entry.0.min(g);
+        entry.1.insert(st.master_element());
+    }
+    let candidates: Vec<(usize, f64, BTreeSet<usize>)> = near
+        .into_iter()
+        .filter(|(e, (g, _))| {
+            *g > 0.0
+                && sface.elements()[*e]
+                    .functions
+                    .iter()
+                    .all(|&i| indicator[i] <= 0.0)
+        })
+        .map(|(e, (g, seen))| (e, g, seen))
+        .collect();
+    use rayon::prelude::*;
+    let seen: BTreeSet<usize> = candidates
+        .iter()
+        .flat_map(|(_, _, s)| s.iter().copied())
+        .collect();
+    let master_misfit: std::collections::BTreeMap<usize, f64> = seen
+        .into_par_iter()
+        .map(|m| (m, misfit(mface, master, m)))
+        .collect();
+    Ok(candidates
+        .into_par_iter()
+        .filter(|(e, g, seen)| {
+            let em = seen.iter().map(|m| master_misfit[m]).fold(0.0, f64::max);
+            *g < misfit(sface, slave, *e) + em
+        })
+        .map(|(e, _, _)| e)
+        .collect())
 }
 
 /// The bodies (SI units, as built for the model) with the marked cells refined

@@ -2,6 +2,7 @@
 //! macroscopic jump by the requested identification, with everything spec §9
 //! asks a micro-solve to report.
 
+use std::collections::BTreeSet;
 use std::sync::Mutex;
 
 use serde::Serialize;
@@ -10,7 +11,7 @@ use crate::bulk::Coupling;
 use crate::geometry::Side;
 use crate::homogenize::abp::{AbpProperties, AbpTemperatures, accompanying_bar};
 use crate::homogenize::adapt::{
-    mark_contact_edges, refine_bodies, transfer_state, write_two_level_system,
+    mark_contact_edges, refine_bodies, surface_misfit_marks, transfer_state, write_two_level_system,
 };
 use crate::material::Material;
 use crate::sample::case::{Acceleration, Case, MasterBody, Method};
@@ -20,7 +21,7 @@ use crate::sample::micro::{
     measure_but_contact, place_at_first_touch, slave_body,
 };
 use crate::sample::vtk::{Fields, PointInfo, VtkSeries};
-use crate::solve::{Model, Newton, NewtonSettings, NonlinearProblem};
+use crate::solve::{Model, NON_FINITE_RESIDUAL, Newton, NewtonSettings, NonlinearProblem};
 use crate::{Error, Result};
 
 /// Outcome of one load point.
@@ -557,6 +558,13 @@ impl<'a> PathSolver<'a> {
         let heights = case_heights(case)?;
         let touch_shift = exact_first_touch(case, &heights) - self.geometry.g0;
         let ratio = level_error_ratio(case.sample.dimension);
+        // Faces whose height error exceeds their gap may hide a touch of the
+        // exact surfaces ([`surface_misfit_marks`]); the case fits' errors,
+        // with a margin for the sampling, bound every level's.
+        let misfit_bound = MISFIT_BOUND_MARGIN
+            * (self.geometry.fit_upper.max_error() + self.geometry.fit_lower.max_error());
+        let g0 = self.geometry.g0;
+        let mut hidden: Option<BTreeSet<usize>> = None;
         let mut fine: Option<PathSolver<'a>> = None;
         for level in 1..=d.max_levels {
             let (src, src_bodies, src_newton) = match fine.as_mut() {
@@ -566,7 +574,17 @@ impl<'a> PathSolver<'a> {
             let clock = std::time::Instant::now();
             // `src` is prepared at its solved state: by `fitted` above (the
             // case mesh) or below (the previous level).
-            let marks = mark_contact_edges(src, slave)?;
+            let misfit = match hidden.take() {
+                Some(m) => m,
+                None => surface_misfit_marks(src, slave, &heights, g0, misfit_bound)?,
+            };
+            if trace && !misfit.is_empty() {
+                eprintln!(
+                    "adapt {pressure:e} Pa: level {level}: {} slave face elements marked where the faces may hide a touch",
+                    misfit.len()
+                );
+            }
+            let marks = mark_contact_edges(src, slave, &misfit)?;
             let marked = clock.elapsed().as_secs_f64();
             let bodies = refine_bodies(src_bodies, &marks);
             // Resolving the faces keeps the control points.
@@ -599,25 +617,52 @@ impl<'a> PathSolver<'a> {
             // The self-consistency iterations of the final level start with
             // the slope of the path's previous pressure.
             next.self_consistency_slope = self.self_consistency_slope;
-            next.model.set_symmetric_solvers(src.symmetric_solvers());
+            let symmetric = src.symmetric_solvers();
+            next.model.set_symmetric_solvers(symmetric);
             transfer_state(src, &mut next.model);
             next.last_pressure = pressure;
             let built = clock.elapsed().as_secs_f64();
             let solved = next.solve_fluxes_on_mesh(pressure, fluxes, true, None);
             self.absorb_cost(&mut next);
             let solved = match solved {
-                Ok(r) if r.iter().all(|r| r.converged) => r,
-                other => {
-                    let why = match other {
-                        Ok(r) => r
-                            .iter()
-                            .find_map(|r| match &r.status {
-                                Status::Failed(m) => Some(m.clone()),
-                                Status::Converged => None,
-                            })
-                            .unwrap_or_default(),
-                        Err(e) => e.to_string(),
-                    };
+                Ok(r) if r.iter().all(|r| r.converged) => Ok(r),
+                // The carried-over state is a near-solution where the refined
+                // faces stay close to the coarse ones. Where the exact surface
+                // has features finer than the coarse fit (a narrow asperity of
+                // a measured surface), the refined faces overlap the other
+                // body by up to the fit's error, and the first increments may
+                // invert an element: the level is then solved again from rest
+                // along the pressure path. A solve that stalls instead (it
+                // evaluates but does not converge) is not repeated.
+                Err(Error::NewtonDiverged { reason, .. }) if reason == NON_FINITE_RESIDUAL => {
+                    if trace {
+                        eprintln!(
+                            "adapt {pressure:e} Pa: level {level}: {reason} from the carried-over state; solving it from rest"
+                        );
+                    }
+                    let bodies = next.bodies.clone();
+                    drop(next);
+                    let mut rest = PathSolver::with_bodies(case, self.geometry.clone(), bodies)?;
+                    place_at_first_touch(case, &rest.geometry, &mut rest.model)?;
+                    rest.capture = self.capture;
+                    rest.self_consistency_slope = self.self_consistency_slope;
+                    rest.model.set_symmetric_solvers(symmetric);
+                    let solved = rest.solve_fluxes_on_mesh(pressure, fluxes, true, None);
+                    self.absorb_cost(&mut rest);
+                    next = rest;
+                    match solved {
+                        Ok(r) if r.iter().all(|r| r.converged) => Ok(r),
+                        other => Err(format!(
+                            "{reason} from the carried-over state; from rest: {}",
+                            failure_reason(other)
+                        )),
+                    }
+                }
+                other => Err(failure_reason(other)),
+            };
+            let solved = match solved {
+                Ok(r) => r,
+                Err(why) => {
                     if trace {
                         eprintln!(
                             "adapt {pressure:e} Pa: level {level} failed ({why}); keeping level {}",
@@ -681,6 +726,23 @@ impl<'a> PathSolver<'a> {
                     .iter()
                     .zip(&best)
                     .all(|(e, r)| *e <= target * r.jump.abs());
+            if met && level < d.max_levels {
+                // The estimate sees only what the levels refined: where the
+                // solved faces may still hide a touch of the exact surfaces,
+                // the refinement goes on (the contact was prepared at the
+                // solved state by `fitted` above).
+                let m = surface_misfit_marks(&next.model, slave, &heights, g0, misfit_bound)?;
+                if !m.is_empty() {
+                    if trace {
+                        eprintln!(
+                            "adapt {pressure:e} Pa: level {level} meets the target, but {} slave face elements may hide a touch of the exact surfaces",
+                            m.len()
+                        );
+                    }
+                    met = false;
+                    hidden = Some(m);
+                }
+            }
             estimate = Some(est);
             fine = Some(next);
             if met {
@@ -1174,6 +1236,25 @@ pub const MIN_ADAPTIVE_LEVELS: usize = 2;
 /// occur by chance (a random profile at 100 Pa: estimate 0.41 of the true
 /// error with two, 1.8 with three).
 pub const FITTED_LEVELS: usize = 3;
+
+/// Margin on the case fits' largest height errors (sampled at 8 points per element and
+/// direction) for the bound below which [`surface_misfit_marks`] samples a face element's
+/// error: the refined levels' quasi-interpolants and the samples between the fits' own.
+pub const MISFIT_BOUND_MARGIN: f64 = 2.0;
+
+/// Why a level's solve failed: the first failed point's status, or the error.
+fn failure_reason(solved: Result<Vec<PointResult>>) -> String {
+    match solved {
+        Ok(r) => r
+            .iter()
+            .find_map(|r| match &r.status {
+                Status::Failed(m) => Some(m.clone()),
+                Status::Converged => None,
+            })
+            .unwrap_or_default(),
+        Err(e) => e.to_string(),
+    }
+}
 
 /// The ratio of successive errors of the jump per adaptive level that
 /// [`two_level_estimate`] assumes in dimension `dim`: the edge elements halve

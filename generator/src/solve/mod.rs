@@ -10,5 +10,7 @@ pub mod scales;
 
 pub use dofs::{Dof, DofMap, DofMapBuilder};
 pub use model::{Body, Model, ModelBuilder};
-pub use newton::{LoadStepping, Newton, NewtonSettings, NonlinearProblem, SolveHistory};
+pub use newton::{
+    LoadStepping, NON_FINITE_RESIDUAL, Newton, NewtonSettings, NonlinearProblem, SolveHistory,
+};
 pub use scales::Scales;

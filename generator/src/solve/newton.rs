@@ -242,6 +242,12 @@ pub struct Newton {
     large_factor_precision: FactorPrecision,
 }
 
+/// The reason of a Newton failure whose residual was not finite: an inverted element or
+/// a contact search that found no closest point, i.e. a state the model cannot evaluate
+/// (an adaptive level's carried-over state is then given up for a solve from rest,
+/// `homogenize::path`).
+pub const NON_FINITE_RESIDUAL: &str = "non-finite residual";
+
 /// Newton increments of systems with at least this many unknowns are first
 /// solved by GMRES preconditioned by the last factorization of the same pattern
 /// (a previous iteration's, or the same phase's in the previous self-consistent
@@ -755,7 +761,7 @@ impl Newton {
             let assembled = clock.elapsed().as_secs_f64();
             let norms = Self::field_norms(p, &r);
             if norms.iter().any(|v| !v.is_finite()) {
-                return Err(fail(it, "non-finite residual".into()));
+                return Err(fail(it, NON_FINITE_RESIDUAL.into()));
             }
             history.push(IterationRecord {
                 residuals: norms.clone(),
