@@ -634,7 +634,8 @@ impl<'a> PathSolver<'a> {
                 // invert an element: the level is then solved again from rest
                 // along the pressure path. A solve that stalls instead (it
                 // evaluates but does not converge) is not repeated.
-                Err(Error::NewtonDiverged { reason, .. }) if reason == NON_FINITE_RESIDUAL => {
+                Err(e) if starts_unevaluable(&e) => {
+                    let reason = NON_FINITE_RESIDUAL;
                     if trace {
                         eprintln!(
                             "adapt {pressure:e} Pa: level {level}: {reason} from the carried-over state; solving it from rest"
@@ -1242,6 +1243,18 @@ pub const FITTED_LEVELS: usize = 3;
 /// error: the refined levels' quasi-interpolants and the samples between the fits' own.
 pub const MISFIT_BOUND_MARGIN: f64 = 2.0;
 
+/// Whether a failed solve ended on a state the model cannot evaluate (a residual
+/// that is not finite): Newton's failure at a constant load, or the load stepping's
+/// last one where it cut back (a carried-over state whose prescribed values are
+/// not all held yet).
+fn starts_unevaluable(e: &Error) -> bool {
+    match e {
+        Error::NewtonDiverged { reason, .. } => reason == NON_FINITE_RESIDUAL,
+        Error::LoadStepStalled { last, .. } => last.ends_with(NON_FINITE_RESIDUAL),
+        _ => false,
+    }
+}
+
 /// Why a level's solve failed: the first failed point's status, or the error.
 fn failure_reason(solved: Result<Vec<PointResult>>) -> String {
     match solved {
@@ -1530,6 +1543,30 @@ impl Secant {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A level is solved again from rest where its solve ended on a residual
+    /// that is not finite, whether Newton failed at a constant load or the
+    /// load stepping cut back to its minimum; not where it stalled.
+    #[test]
+    fn only_an_unevaluable_state_is_solved_again_from_rest() {
+        let newton = |reason: &str| Error::NewtonDiverged {
+            step: 0,
+            load_factor: 1.0,
+            iterations: 1,
+            reason: reason.into(),
+        };
+        let stalled = |last: &Error| Error::LoadStepStalled {
+            load_factor: 0.0,
+            step_size: 3.8e-6,
+            last: last.to_string(),
+        };
+        let stall = "no convergence; residuals mechanical 2.232e-7 > 1.950e-7";
+        assert!(starts_unevaluable(&newton(NON_FINITE_RESIDUAL)));
+        assert!(starts_unevaluable(&stalled(&newton(NON_FINITE_RESIDUAL))));
+        assert!(!starts_unevaluable(&newton(stall)));
+        assert!(!starts_unevaluable(&stalled(&newton(stall))));
+        assert!(!starts_unevaluable(&Error::Geometry("x".into())));
+    }
 
     /// Iterates `F` from `F(0)` with `secant` until `|F(ϑ) − ϑ| ≤ tol |F(ϑ)|`;
     /// returns the iterations (phases run after the first) and the last output.

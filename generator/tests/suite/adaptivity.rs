@@ -603,6 +603,29 @@ fn asperity_case(
     case_with(upper, lower, surface, pressures, &extra)
 }
 
+/// The slave face elements that the surface-resolution indicator marks on
+/// the case mesh of `c` solved at 1 kPa, as their corners' lateral
+/// coordinates `(lower, upper)` (m).
+fn misfit_marks_at_one_kpa(c: &Case) -> Vec<([f64; 3], [f64; 3])> {
+    let mut s = PathSolver::new(c).unwrap();
+    s.solve_pressure(1.0e3).unwrap();
+    s.model.prepare_contact().unwrap();
+    let heights = case_heights(c).unwrap();
+    let bound =
+        MISFIT_BOUND_MARGIN * (s.geometry.fit_upper.max_error() + s.geometry.fit_lower.max_error());
+    let marks = surface_misfit_marks(&s.model, UPPER, &heights, s.geometry.g0, bound).unwrap();
+    let face = s.model.contact.as_ref().unwrap().slave_face();
+    let (l, dims) = (s.model.scales.length, face.param_dim());
+    marks
+        .iter()
+        .map(|&e| {
+            let el = &face.elements()[e];
+            let corner = |xi: &[f64; 3]| face.point(&xi[..dims]).map(|v| v * l);
+            (corner(&el.lower), corner(&el.upper))
+        })
+        .collect()
+}
+
 /// The surface-resolution indicator (`adapt::surface_misfit_marks`) marks
 /// the slave face elements out of contact whose gap is below the faces'
 /// height error: on the coarse case mesh at 1 kPa, those over the narrow
@@ -613,24 +636,9 @@ fn the_surface_indicator_marks_an_asperity_the_fit_flattens() {
     let marked = |depth: f64| -> Vec<[f64; 2]> {
         let surface = asperity_profile(&format!("indicator-{depth}"), depth);
         let c = asperity_case([16, 8], [14, 7], &surface, "[1.0e3]", "");
-        let mut s = PathSolver::new(&c).unwrap();
-        s.solve_pressure(1.0e3).unwrap();
-        s.model.prepare_contact().unwrap();
-        let heights = case_heights(&c).unwrap();
-        let bound = MISFIT_BOUND_MARGIN
-            * (s.geometry.fit_upper.max_error() + s.geometry.fit_lower.max_error());
-        let marks = surface_misfit_marks(&s.model, UPPER, &heights, s.geometry.g0, bound).unwrap();
-        let face = s.model.contact.as_ref().unwrap().slave_face();
-        marks
+        misfit_marks_at_one_kpa(&c)
             .iter()
-            .map(|&e| {
-                let el = &face.elements()[e];
-                let l = s.model.scales.length;
-                [
-                    face.point(&el.lower[..1])[0] * l,
-                    face.point(&el.upper[..1])[0] * l,
-                ]
-            })
+            .map(|(a, b)| [a[0], b[0]])
             .collect()
     };
     let with = marked(3.5e-7);
@@ -704,4 +712,84 @@ fn an_asperity_the_case_fit_flattens_is_found_and_resolved() {
         "{:?}",
         r[1].refinement_stop
     );
+}
+
+/// The indicator in 3D (the same code, face elements sampled on 8 × 8
+/// points): a height map (`kind = "heightmap"`, 64 × 64 nodes) of a low egg
+/// box (peak 0.2 μm) with a narrow dent (depth 0.35 μm, σ = 0.3 μm) at
+/// `(W/4, W/4)`, where the egg box is at mid-height, so that the exact
+/// surfaces first touch at the dent; on the 8 × 8 × 2 case mesh (elements of
+/// 1.25 μm, whose fit flattens the dent) at 1 kPa the slave elements over the
+/// dent are marked (observed: the four that meet at its centre, and no
+/// other), and without the dent none is.
+#[test]
+fn the_surface_indicator_marks_an_asperity_in_3d() {
+    let marked = |depth: f64| -> Vec<[f64; 4]> {
+        let dir = std::env::temp_dir().join(format!("tcgen-dent3d-{depth}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("heights.csv");
+        let (w, n) = (1.0e-5, 64);
+        let q = std::f64::consts::TAU / w;
+        let rows: Vec<String> = (0..n)
+            .map(|j| {
+                let y = j as f64 * w / n as f64;
+                (0..n)
+                    .map(|i| {
+                        let x = i as f64 * w / n as f64;
+                        let r2 = (x - w / 4.0).powi(2) + (y - w / 4.0).powi(2);
+                        let z = 2.0e-7 * (q * x).cos() * (q * y).cos()
+                            - depth * (-r2 / 3.0e-7f64.powi(2)).exp();
+                        format!("{z:e}")
+                    })
+                    .collect::<Vec<_>>()
+                    .join(",")
+            })
+            .collect();
+        std::fs::write(&file, rows.join("\n") + "\n").unwrap();
+        let text = format!(
+            r#"
+[sample]
+dimension = 3
+width = 1.0e-5
+height = 7.0e-6
+[surface.upper]
+kind = "heightmap"
+file = "{}"
+[surface.lower]
+kind = "flat"
+[discretization]
+degree = 2
+elements_upper = [8, 8, 2]
+elements_lower = [7, 7, 2]
+bulk_points = 3
+[contact]
+interface_points = 4
+[load]
+pressures = [1.0e3]
+flux = 1.0e6
+[homogenization]
+method = "two-phase"
+"#,
+            file.display()
+        );
+        let c = Case::from_toml(&text, Path::new(".")).unwrap();
+        misfit_marks_at_one_kpa(&c)
+            .iter()
+            .map(|(a, b)| [a[0], b[0], a[1], b[1]])
+            .collect()
+    };
+    let with = marked(3.5e-7);
+    println!("marked slave elements (x0, x1, y0, y1 in m): {with:?}");
+    let over_the_dent = |[x0, x1, y0, y1]: &[f64; 4]| {
+        let (c, tol) = (2.5e-6, 1e-12);
+        x0.min(*x1) <= c + tol
+            && x0.max(*x1) >= c - tol
+            && y0.min(*y1) <= c + tol
+            && y0.max(*y1) >= c - tol
+    };
+    assert!(
+        with.iter().any(over_the_dent),
+        "the dent is not marked: {with:?}"
+    );
+    assert!(marked(0.0).is_empty());
 }
