@@ -49,7 +49,7 @@ pub enum Error {
         /// The step size that failed.
         step_size: f64,
         /// The last Newton failure.
-        last: String,
+        last: Box<Error>,
     },
     /// An allocation larger than the memory left
     /// ([`crate::solve::resources::memory_left`]), refused before it is made

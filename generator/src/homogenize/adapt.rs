@@ -353,6 +353,41 @@ pub fn transfer_state(from: &Model, to: &mut Model) {
     }
 }
 
+/// Moves the transferred state of `model`, whose bodies are those of
+/// `unresolved` (their control points, SI, per body [`LOWER`], [`UPPER`]) with
+/// the faces moved onto the exact surfaces ([`Bodies::resolved`]), back onto
+/// the configuration that was solved: each control point's free displacement
+/// components take the change of its reference position,
+/// `u ← u + X_unresolved − X_resolved`. Geometry and displacements share the
+/// basis, so every point is where the coarser level left it (the gaps and the
+/// contact unchanged), and the resolution's change of shape is a strain from
+/// the new reference instead of an overlap of the other body (which the fit
+/// error at a narrow asperity can make large enough to invert an element in
+/// the first increments). Prescribed components (the faces opposite the rough
+/// ones, whose positions the resolution keeps) are left as they are.
+pub fn keep_transferred_configuration(model: &mut Model, unresolved: &[Vec<[f64; 3]>; 2]) {
+    let nf = model.dim + 1;
+    let mut shifts = Vec::new();
+    for k in [LOWER, UPPER] {
+        let body = &model.bodies[k];
+        for (i, (x0, x1)) in unresolved[k]
+            .iter()
+            .zip(body.patch.control_points())
+            .enumerate()
+        {
+            for d in 0..model.dim {
+                let node = body.node_offset + i;
+                if model.dofs().eq(node, d).is_some() {
+                    shifts.push((node * nf + d, model.scales.len(x0[d]) - x1[d]));
+                }
+            }
+        }
+    }
+    for (i, du) in shifts {
+        model.state[i] += du;
+    }
+}
+
 /// The prolongation from the equations of `from` to those of `to` (built on
 /// refinements of its bodies, both in the same phase) as `(fine, coarse,
 /// value)` entries: what [`transfer_state`] does to the fields and the

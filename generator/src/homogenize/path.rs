@@ -11,7 +11,8 @@ use crate::bulk::Coupling;
 use crate::geometry::Side;
 use crate::homogenize::abp::{AbpProperties, AbpTemperatures, accompanying_bar};
 use crate::homogenize::adapt::{
-    mark_contact_edges, refine_bodies, surface_misfit_marks, transfer_state, write_two_level_system,
+    keep_transferred_configuration, mark_contact_edges, refine_bodies, surface_misfit_marks,
+    transfer_state, write_two_level_system,
 };
 use crate::material::Material;
 use crate::sample::case::{Acceleration, Case, MasterBody, Method};
@@ -609,6 +610,7 @@ impl<'a> PathSolver<'a> {
                 src.release_caches();
             }
             let released = clock.elapsed().as_secs_f64() - releasing;
+            let unresolved = [LOWER, UPPER].map(|k| bodies.get(k).control_points().to_vec());
             let bodies = bodies.resolved(&heights, self.geometry.g0)?;
             let refined = clock.elapsed().as_secs_f64();
             let mut next = PathSolver::with_bodies(case, self.geometry.clone(), bodies)?;
@@ -620,6 +622,8 @@ impl<'a> PathSolver<'a> {
             let symmetric = src.symmetric_solvers();
             next.model.set_symmetric_solvers(symmetric);
             transfer_state(src, &mut next.model);
+            // Kept for a second start should this one fail (below).
+            let transferred = next.model.save();
             next.last_pressure = pressure;
             let built = clock.elapsed().as_secs_f64();
             let solved = next.solve_fluxes_on_mesh(pressure, fluxes, true, None);
@@ -631,33 +635,52 @@ impl<'a> PathSolver<'a> {
                 // has features finer than the coarse fit (a narrow asperity of
                 // a measured surface), the refined faces overlap the other
                 // body by up to the fit's error, and the first increments may
-                // invert an element: the level is then solved again from rest
-                // along the pressure path. A solve that stalls instead (it
-                // evaluates but does not converge) is not repeated.
+                // invert an element. The level is then solved again from the
+                // configuration the coarser level solved (the gaps unchanged,
+                // the faces' change of shape a strain instead;
+                // `keep_transferred_configuration`), and should that fail too,
+                // from rest along the pressure path. A solve that stalls
+                // instead (it evaluates but does not converge) is not repeated.
                 Err(e) if starts_unevaluable(&e) => {
                     let reason = NON_FINITE_RESIDUAL;
-                    if trace {
-                        eprintln!(
-                            "adapt {pressure:e} Pa: level {level}: {reason} from the carried-over state; solving it from rest"
-                        );
-                    }
                     let bodies = next.bodies.clone();
                     drop(next);
-                    let mut rest = PathSolver::with_bodies(case, self.geometry.clone(), bodies)?;
-                    place_at_first_touch(case, &rest.geometry, &mut rest.model)?;
-                    rest.capture = self.capture;
-                    rest.self_consistency_slope = self.self_consistency_slope;
-                    rest.model.set_symmetric_solvers(symmetric);
-                    let solved = rest.solve_fluxes_on_mesh(pressure, fluxes, true, None);
-                    self.absorb_cost(&mut rest);
-                    next = rest;
-                    match solved {
-                        Ok(r) if r.iter().all(|r| r.converged) => Ok(r),
-                        other => Err(format!(
-                            "{reason} from the carried-over state; from rest: {}",
-                            failure_reason(other)
-                        )),
-                    }
+                    let mut again =
+                        PathSolver::with_bodies(case, self.geometry.clone(), bodies.clone())?;
+                    again.model.restore(&transferred);
+                    keep_transferred_configuration(&mut again.model, &unresolved);
+                    again.last_pressure = pressure;
+                    let mut attempts = Vec::new();
+                    let solved = loop {
+                        if trace {
+                            eprintln!(
+                                "adapt {pressure:e} Pa: level {level}: {reason} from the carried-over state; solving it {}",
+                                ["from the configuration solved", "from rest"][attempts.len()]
+                            );
+                        }
+                        again.capture = self.capture;
+                        again.self_consistency_slope = self.self_consistency_slope;
+                        again.model.set_symmetric_solvers(symmetric);
+                        let result = again.solve_fluxes_on_mesh(pressure, fluxes, true, None);
+                        self.absorb_cost(&mut again);
+                        match result {
+                            Ok(r) if r.iter().all(|r| r.converged) => break Ok(r),
+                            other => attempts.push(failure_reason(other)),
+                        }
+                        if attempts.len() == 2 {
+                            break Err(format!(
+                                "{reason} from the carried-over state; from the configuration solved: {}; from rest: {}",
+                                attempts[0], attempts[1]
+                            ));
+                        }
+                        // The failed attempt's factors are freed first.
+                        drop(again);
+                        again =
+                            PathSolver::with_bodies(case, self.geometry.clone(), bodies.clone())?;
+                        place_at_first_touch(case, &again.geometry, &mut again.model)?;
+                    };
+                    next = again;
+                    solved
                 }
                 other => Err(failure_reason(other)),
             };
@@ -1250,7 +1273,7 @@ pub const MISFIT_BOUND_MARGIN: f64 = 2.0;
 fn starts_unevaluable(e: &Error) -> bool {
     match e {
         Error::NewtonDiverged { reason, .. } => reason == NON_FINITE_RESIDUAL,
-        Error::LoadStepStalled { last, .. } => last.ends_with(NON_FINITE_RESIDUAL),
+        Error::LoadStepStalled { last, .. } => starts_unevaluable(last),
         _ => false,
     }
 }
@@ -1555,16 +1578,16 @@ mod tests {
             iterations: 1,
             reason: reason.into(),
         };
-        let stalled = |last: &Error| Error::LoadStepStalled {
+        let stalled = |last: Error| Error::LoadStepStalled {
             load_factor: 0.0,
             step_size: 3.8e-6,
-            last: last.to_string(),
+            last: Box::new(last),
         };
         let stall = "no convergence; residuals mechanical 2.232e-7 > 1.950e-7";
         assert!(starts_unevaluable(&newton(NON_FINITE_RESIDUAL)));
-        assert!(starts_unevaluable(&stalled(&newton(NON_FINITE_RESIDUAL))));
+        assert!(starts_unevaluable(&stalled(newton(NON_FINITE_RESIDUAL))));
         assert!(!starts_unevaluable(&newton(stall)));
-        assert!(!starts_unevaluable(&stalled(&newton(stall))));
+        assert!(!starts_unevaluable(&stalled(newton(stall))));
         assert!(!starts_unevaluable(&Error::Geometry("x".into())));
     }
 

@@ -984,7 +984,7 @@ impl Newton {
                         return Err(Error::LoadStepStalled {
                             load_factor: lf,
                             step_size: dl / span,
-                            last: e.to_string(),
+                            last: Box::new(e),
                         });
                     }
                 }
