@@ -216,6 +216,15 @@ impl DofMap {
             .all(|(d, &x)| !matches!(*d, Dof::Fixed(v) if v != x))
     }
 
+    /// Sets every prescribed component of `state` to its value exactly.
+    pub fn hold(&self, state: &mut [f64]) {
+        for (s, d) in self.dofs.iter().enumerate() {
+            if let Dof::Fixed(v) = *d {
+                state[s] = v;
+            }
+        }
+    }
+
     /// Sets the prescribed components of `state` to `initial + factor (value − initial)`.
     pub fn impose(&self, state: &mut [f64], initial: &[f64], factor: f64) {
         for (s, d) in self.dofs.iter().enumerate() {

@@ -1204,6 +1204,11 @@ impl Model {
         }
     }
 
+    /// Sets every prescribed component of the state to its value exactly.
+    pub fn hold_prescribed(&mut self) {
+        self.dofs.hold(&mut self.state);
+    }
+
     /// The degrees of freedom.
     pub fn dofs(&self) -> &DofMap {
         &self.dofs
