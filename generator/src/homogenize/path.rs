@@ -1267,9 +1267,10 @@ pub const FITTED_LEVELS: usize = 3;
 pub const MISFIT_BOUND_MARGIN: f64 = 2.0;
 
 /// Whether a failed solve ended on a state the model cannot evaluate (a residual
-/// that is not finite): Newton's failure at a constant load, or the load stepping's
-/// last one where it cut back (a carried-over state whose prescribed values are
-/// not all held yet).
+/// that is not finite): Newton's failure at a constant load (a level's re-solve
+/// from its carried-over state, whose prescribed values [`transfer_state`]
+/// holds), or the load stepping's last one where the load varies and it cut
+/// back.
 fn starts_unevaluable(e: &Error) -> bool {
     match e {
         Error::NewtonDiverged { reason, .. } => reason == NON_FINITE_RESIDUAL,
@@ -1567,7 +1568,8 @@ impl Secant {
 mod tests {
     use super::*;
 
-    /// A level is solved again from rest where its solve ended on a residual
+    /// A level is solved again (from the configuration solved, then from
+    /// rest) where its solve ended on a residual
     /// that is not finite, whether Newton failed at a constant load or the
     /// load stepping cut back to its minimum; not where it stalled.
     #[test]

@@ -698,9 +698,10 @@ fn the_surface_indicator_marks_an_asperity_the_fit_flattens() {
 /// the trough's spot only and met the target at 12.89 K ± 0.02 K, 64 % below
 /// the finer mesh's 35.49 K. The levels that bring the asperity into contact
 /// start from a carried-over state that overlaps it by most of its depth,
-/// whose first increments invert elements: they are solved again from rest
-/// (without that, the first such level failed and each point kept the level
-/// before it, flagged). Observed (stop 69): 35.530 K ± 0.086 (8 levels, stopped by
+/// whose first increments invert elements: they are solved again from the
+/// configuration the coarser level solved, or from rest should that fail too
+/// (without either, the first such level failed and each point kept the level
+/// before it, flagged). Observed (stop 69, the same in stop 70): 35.530 K ± 0.086 (8 levels, stopped by
 /// `max_levels`: the fitted regime began late) and 8.1384 K ± 0.0064
 /// (target met) against 35.494 and 8.1362 K, and 35.524 and 8.1374 K on a
 /// case mesh 8× finer adaptive to 0.1 %.
