@@ -46,6 +46,11 @@ enum Command {
         /// Cauchy stress, heat flux; the interface with pressure and flux) into DIR.
         #[arg(long, value_name = "DIR")]
         vtk: Option<std::path::PathBuf>,
+        /// Print no progress of the adaptive levels (by default, on standard
+        /// error, each level that took a second or more: pressure, level,
+        /// unknowns, jump and its estimate, time).
+        #[arg(long)]
+        quiet: bool,
     },
     /// Check a case or sweep file without solving: validate it, print the
     /// resolved configuration with every default, the unknowns and the
@@ -876,7 +881,16 @@ fn write_verify_data(
     Ok(())
 }
 
-fn solve(path: &std::path::Path, json: bool, vtk: Option<std::path::PathBuf>) -> ExitCode {
+/// `tcgen solve` prints an adaptive level's progress line when it took this
+/// long (s): the levels of 2D points take milliseconds, 3D ones minutes.
+const SOLVE_LEVEL_LINE_SECONDS: f64 = 1.0;
+
+fn solve(
+    path: &std::path::Path,
+    json: bool,
+    vtk: Option<std::path::PathBuf>,
+    quiet: bool,
+) -> ExitCode {
     let case = match tcgen::sample::Case::read(path) {
         Ok(c) => c,
         Err(e) => {
@@ -928,49 +942,63 @@ fn solve(path: &std::path::Path, json: bool, vtk: Option<std::path::PathBuf>) ->
         );
     }
     let t = std::time::Instant::now();
-    let result = tcgen::homogenize::solve_case(&case, vtk, |r| {
-        if json {
-            println!("{}", serde_json::to_string(r).expect("serializable"));
-        } else {
-            let status = match (&r.status, r.error_target_met) {
-                (tcgen::homogenize::Status::Converged, Some(false)) => format!(
-                    "converged, error target NOT met ({})",
-                    r.refinement_stop.as_deref().unwrap_or("refinement stopped")
-                ),
-                (tcgen::homogenize::Status::Converged, _) => "converged".to_string(),
-                (tcgen::homogenize::Status::Failed(m), _) => format!("FAILED: {m}"),
-            };
-            println!(
-                "{:>12.4e} {:>9.4} {:>12.4e} {:>12.4e}{} {:>12.6e}{} {:>12.4e} {:>6} {:>6}  {status}",
-                r.pressure,
-                r.interface.contact_fraction,
-                r.interface.mean_gap,
-                r.interface.approach,
-                match (sliding, sliding_y) {
-                    (true, true) => format!(
-                        " {:>12.4e} {:>12.4e}",
-                        r.interface.lateral_offset, r.interface.lateral_offset_y
-                    ),
-                    (true, false) => format!(" {:>12.4e}", r.interface.lateral_offset),
-                    _ => String::new(),
-                },
-                r.jump,
-                if adaptive {
-                    format!(
-                        " {:>9} {:>7} {:>7}",
-                        r.jump_error.map_or("-".into(), |e| format!("{e:.2e}")),
-                        r.dofs,
-                        format!("{}/{}", r.levels[1], r.levels[0])
-                    )
-                } else {
-                    String::new()
-                },
-                r.conductance,
-                r.newton_iterations,
-                r.self_consistency_iterations
-            );
-        }
+    // The adaptive levels that take a while, as they end (3D points take
+    // minutes per level, and their rows come after the last).
+    let levels: Option<tcgen::homogenize::LevelObserver> = (adaptive && !quiet).then(|| {
+        std::sync::Arc::new(|r: &tcgen::homogenize::LevelReport| {
+            if r.seconds >= SOLVE_LEVEL_LINE_SECONDS {
+                eprintln!("  {r}");
+            }
+        }) as tcgen::homogenize::LevelObserver
     });
+    let result = tcgen::homogenize::solve_case_observed(
+        &case,
+        vtk,
+        |r| {
+            if json {
+                println!("{}", serde_json::to_string(r).expect("serializable"));
+            } else {
+                let status = match (&r.status, r.error_target_met) {
+                    (tcgen::homogenize::Status::Converged, Some(false)) => format!(
+                        "converged, error target NOT met ({})",
+                        r.refinement_stop.as_deref().unwrap_or("refinement stopped")
+                    ),
+                    (tcgen::homogenize::Status::Converged, _) => "converged".to_string(),
+                    (tcgen::homogenize::Status::Failed(m), _) => format!("FAILED: {m}"),
+                };
+                println!(
+                    "{:>12.4e} {:>9.4} {:>12.4e} {:>12.4e}{} {:>12.6e}{} {:>12.4e} {:>6} {:>6}  {status}",
+                    r.pressure,
+                    r.interface.contact_fraction,
+                    r.interface.mean_gap,
+                    r.interface.approach,
+                    match (sliding, sliding_y) {
+                        (true, true) => format!(
+                            " {:>12.4e} {:>12.4e}",
+                            r.interface.lateral_offset, r.interface.lateral_offset_y
+                        ),
+                        (true, false) => format!(" {:>12.4e}", r.interface.lateral_offset),
+                        _ => String::new(),
+                    },
+                    r.jump,
+                    if adaptive {
+                        format!(
+                            " {:>9} {:>7} {:>7}",
+                            r.jump_error.map_or("-".into(), |e| format!("{e:.2e}")),
+                            r.dofs,
+                            format!("{}/{}", r.levels[1], r.levels[0])
+                        )
+                    } else {
+                        String::new()
+                    },
+                    r.conductance,
+                    r.newton_iterations,
+                    r.self_consistency_iterations
+                );
+            }
+        },
+        levels,
+    );
     match result {
         Ok(points) => {
             if !json {
@@ -1002,7 +1030,12 @@ fn main() -> ExitCode {
             list,
             data,
         } => verify(json, filter, list, data.as_deref()),
-        Command::Solve { case, json, vtk } => solve(&case, json, vtk),
+        Command::Solve {
+            case,
+            json,
+            vtk,
+            quiet,
+        } => solve(&case, json, vtk, quiet),
         Command::Sweep {
             config,
             output,

@@ -10,4 +10,4 @@ pub mod hbp;
 pub mod path;
 
 pub use abp::{AbpProperties, AbpTemperatures, accompanying_bar};
-pub use path::{PointResult, Status, solve_case};
+pub use path::{LevelObserver, LevelReport, PointResult, Status, solve_case, solve_case_observed};

@@ -3,7 +3,7 @@
 //! asks a micro-solve to report.
 
 use std::collections::BTreeSet;
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
 use serde::Serialize;
 
@@ -142,6 +142,64 @@ pub struct PathSolver<'a> {
     plain_phase: Option<(f64, ThermalPhase)>,
     /// Wall time and Newton iterations spent per phase so far.
     phase_cost: PhaseCost,
+    /// Sees every adaptive level as it ends ([`PathSolver::observe_levels`]).
+    level_observer: Option<LevelObserver>,
+}
+
+/// One refined level of an adaptive point, reported as it ends
+/// ([`PathSolver::observe_levels`]): a 3D point takes minutes per level, and
+/// its result comes only after the last.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LevelReport {
+    /// p̄N (Pa).
+    pub pressure: f64,
+    /// The refined level (1 is the first refinement of the case mesh).
+    pub level: usize,
+    /// `[discretization] max_levels`.
+    pub max_levels: usize,
+    /// Unknowns of the level (the refused level's where `max_dofs` stopped it).
+    pub dofs: usize,
+    /// The level's plain two-phase jump (K) and its estimate relative to it
+    /// ([`two_level_estimate`]), of the first flux; `None` where the level
+    /// was not solved.
+    pub jump: Option<(f64, f64)>,
+    /// `[discretization] target_error`.
+    pub target: f64,
+    /// Wall time of the level: marking, refining, building and solving (s).
+    pub seconds: f64,
+    /// Why the refinement stops at this level, if it does: `"target met"`, a
+    /// failure (the previous level is kept), `max_dofs`, or `max_levels`.
+    pub stop: Option<String>,
+}
+
+/// A function that sees every [`LevelReport`]; shared by the points that run
+/// in parallel.
+pub type LevelObserver = Arc<dyn Fn(&LevelReport) + Send + Sync>;
+
+impl std::fmt::Display for LevelReport {
+    /// `"3.000e4 Pa: level 2/4, 13164 unknowns, two-phase jump 2.91200 K ± 14.00 %
+    /// (target 1.00 %), 21.3 s"`: the jump is the plain two-phase one the
+    /// estimate is made on, which the self-consistent iteration then corrects.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{:.3e} Pa: level {}/{}, {} unknowns",
+            self.pressure, self.level, self.max_levels, self.dofs
+        )?;
+        if let Some((jump, estimate)) = self.jump {
+            write!(
+                f,
+                ", two-phase jump {jump:.5} K ± {:.2} % (target {:.2} %)",
+                100.0 * estimate,
+                100.0 * self.target
+            )?;
+        }
+        write!(f, ", {:.1} s", self.seconds)?;
+        match &self.stop {
+            Some(stop) => write!(f, "; stop: {stop}"),
+            None => Ok(()),
+        }
+    }
 }
 
 /// What one thermal phase gives.
@@ -211,6 +269,7 @@ impl<'a> PathSolver<'a> {
             self_consistency_slope: None,
             plain_phase: None,
             phase_cost: [(0.0, 0); 3],
+            level_observer: None,
         })
     }
 
@@ -279,6 +338,19 @@ impl<'a> PathSolver<'a> {
     /// included.
     pub fn phase_cost(&self) -> PhaseCost {
         self.phase_cost
+    }
+
+    /// Lets `observer` see every adaptive level of this solver's points as it
+    /// ends ([`LevelReport`]).
+    pub fn observe_levels(&mut self, observer: Option<LevelObserver>) {
+        self.level_observer = observer;
+    }
+
+    /// Reports a level to the observer, if any.
+    fn report_level(&self, report: impl FnOnce() -> LevelReport) {
+        if let Some(observe) = &self.level_observer {
+            observe(&report());
+        }
     }
 
     /// Moves the phase cost of `level` (an adaptive level's solver) into
@@ -573,6 +645,16 @@ impl<'a> PathSolver<'a> {
                 None => (&mut self.model, &self.bodies, None),
             };
             let clock = std::time::Instant::now();
+            let level_report = |dofs, jump, stop| LevelReport {
+                pressure,
+                level,
+                max_levels: d.max_levels,
+                dofs,
+                jump,
+                target,
+                seconds: clock.elapsed().as_secs_f64(),
+                stop,
+            };
             // `src` is prepared at its solved state: by `fitted` above (the
             // case mesh) or below (the previous level).
             let misfit = match hidden.take() {
@@ -599,6 +681,10 @@ impl<'a> PathSolver<'a> {
                 // The previous level stays the last, with its factors and
                 // caches (the self-consistency iterations run on it).
                 stop = format!("max_dofs: level {level} would have {dofs} unknowns");
+                self.report_level(|| {
+                    let kept = format!("max_dofs ({}), level {} kept", d.max_dofs, level - 1);
+                    level_report(dofs, None, Some(kept))
+                });
                 break;
             }
             // The previous level's factors and caches are not needed while
@@ -694,6 +780,10 @@ impl<'a> PathSolver<'a> {
                         );
                     }
                     stop = format!("level {level} failed: {why}");
+                    self.report_level(|| {
+                        let kept = format!("failed ({why}), level {} kept", level - 1);
+                        level_report(dofs, None, Some(kept))
+                    });
                     break;
                 }
             };
@@ -767,6 +857,17 @@ impl<'a> PathSolver<'a> {
                     hidden = Some(m);
                 }
             }
+            self.report_level(|| {
+                let jump = (best[0].jump, est[0] / best[0].jump.abs());
+                let stop = if met {
+                    Some("target met".into())
+                } else if level == d.max_levels {
+                    Some("max_levels".into())
+                } else {
+                    None
+                };
+                level_report(best[0].dofs, Some(jump), stop)
+            });
             estimate = Some(est);
             fine = Some(next);
             if met {
@@ -1342,9 +1443,23 @@ pub fn two_level_estimate(d_k: f64, previous: &[f64], ratio: f64) -> f64 {
 pub fn solve_case(
     case: &Case,
     vtk: Option<std::path::PathBuf>,
+    progress: impl FnMut(&PointResult),
+) -> Result<Vec<PointResult>> {
+    solve_case_observed(case, vtk, progress, None)
+}
+
+/// [`solve_case`], with `levels` seeing every adaptive level as it ends
+/// ([`LevelReport`]). Adaptive 3D points are refined one after the other, and
+/// `progress` sees each as it ends; adaptive 2D points run in parallel, and
+/// `progress` sees them when all have.
+pub fn solve_case_observed(
+    case: &Case,
+    vtk: Option<std::path::PathBuf>,
     mut progress: impl FnMut(&PointResult),
+    levels: Option<LevelObserver>,
 ) -> Result<Vec<PointResult>> {
     let mut solver = PathSolver::new(case)?;
+    solver.observe_levels(levels);
     let series = vtk
         .map(|dir| VtkSeries::create(&dir, &case.load.pressures))
         .transpose()?
@@ -1357,9 +1472,7 @@ pub fn solve_case(
             Method::TwoPhase | Method::TwoPhaseSelfConsistent
         )
     {
-        let out = solve_path_adaptive(&mut solver, target, series)?;
-        out.iter().for_each(&mut progress);
-        return Ok(out);
+        return solve_path_adaptive(&mut solver, target, series, &mut progress);
     }
     let mut out = Vec::new();
     let mut failed = None;
@@ -1417,6 +1530,7 @@ fn solve_path_adaptive(
     solver: &mut PathSolver<'_>,
     target: f64,
     series: Option<&Mutex<VtkSeries>>,
+    progress: &mut dyn FnMut(&PointResult),
 ) -> Result<Vec<PointResult>> {
     use rayon::prelude::*;
     let case = solver.case;
@@ -1448,6 +1562,7 @@ fn solve_path_adaptive(
         coarse.push((k, p, item));
     }
     let (geometry, bodies, capture) = (&solver.geometry, &solver.bodies, solver.capture);
+    let observer = &solver.level_observer;
     type Coarse = (Vec<PointResult>, Vec<f64>, Option<Fields>);
     // One point, its self-consistency iterations started with the slope
     // `hint` (`Secant`); returns the result and the slope it measured.
@@ -1459,6 +1574,7 @@ fn solve_path_adaptive(
             base.last_pressure = p;
             base.capture = capture;
             base.self_consistency_slope = hint;
+            base.observe_levels(observer.clone());
             // The coarse fields stand unless a finer mesh is solved.
             base.fields = fields;
             let r = base.adapt(p, &fluxes, r, target)?.pop().expect("one flux");
@@ -1483,14 +1599,17 @@ fn solve_path_adaptive(
             .map(|c| {
                 let (r, slope) = refine_point(c, hint);
                 hint = slope;
+                progress(&r);
                 r
             })
             .collect()
     } else {
-        coarse
+        let out: Vec<PointResult> = coarse
             .into_par_iter()
             .map(|c| refine_point(c, None).0)
-            .collect()
+            .collect();
+        out.iter().for_each(progress);
+        out
     })
 }
 

@@ -17,7 +17,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use crate::homogenize::path::{PathSolver, PointResult, Status};
+use crate::homogenize::path::{LevelObserver, PathSolver, PointResult, Status};
 use crate::io::table::{PointRecord, PointValues, SampleSurfaces};
 use crate::sample::Case;
 use crate::sample::case::Method;
@@ -211,12 +211,14 @@ pub fn solve_path(
 /// flux at that pressure and the next pressure starts afresh from zero load.
 /// A flux's results do not depend on which other fluxes share its solver, so
 /// shards and thread counts give the same table. Coupled identifications
-/// solve each flux on its own ([`solve_path`]).
+/// solve each flux on its own ([`solve_path`]). `on_level` sees every
+/// adaptive level as it ends.
 pub fn solve_flux_group(
     cases: &[Case],
     range: Range<usize>,
     continuation: bool,
     on_point: &(dyn Fn(&PointRecord) + Sync),
+    on_level: Option<&LevelObserver>,
 ) -> Vec<PathPiece> {
     let Some(case) = cases.first() else {
         return Vec::new();
@@ -246,7 +248,10 @@ pub fn solve_flux_group(
                 let built = catch_unwind(AssertUnwindSafe(|| PathSolver::new(case)));
                 setup += t.elapsed().as_secs_f64();
                 match built {
-                    Ok(Ok(s)) => solver = Some(s),
+                    Ok(Ok(mut s)) => {
+                        s.observe_levels(on_level.cloned());
+                        solver = Some(s);
+                    }
                     Ok(Err(e)) => {
                         break 'point vec![PointRecord::failed(format!("set-up failed: {e}")); n];
                     }

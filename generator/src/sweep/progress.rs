@@ -8,6 +8,8 @@ use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressStyle};
 
+use crate::homogenize::path::LevelReport;
+
 /// How progress is shown.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum ProgressMode {
@@ -94,6 +96,29 @@ impl Progress {
             if last.elapsed() >= *interval {
                 *last = Instant::now();
                 eprintln!("{}", self.line());
+            }
+        }
+    }
+
+    /// An adaptive level ended ([`LevelReport`]): a 3D point takes minutes per
+    /// level. On the bar it is the message; in the log it is added to the
+    /// periodic line, which it may also bring (at most one line per
+    /// interval, as the points).
+    pub fn level(&self, report: &LevelReport) {
+        let failed = self.failed.load(Ordering::Relaxed);
+        let failed = if failed > 0 {
+            format!("({failed} failed) ")
+        } else {
+            String::new()
+        };
+        if let Some(b) = &self.bar {
+            b.set_message(format!("{failed}last level: {report}"));
+        }
+        if let Some((interval, last)) = &self.log {
+            let mut last = last.lock().unwrap_or_else(|e| e.into_inner());
+            if last.elapsed() >= *interval {
+                *last = Instant::now();
+                eprintln!("{}; last level: {report}", self.line());
             }
         }
     }

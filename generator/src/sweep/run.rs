@@ -7,12 +7,13 @@
 use std::collections::BTreeSet;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
 
+use crate::homogenize::path::{LevelObserver, LevelReport};
 use crate::io::provenance;
 use crate::io::table::{PointRecord, PointStatus, Table, TableInfo};
 use crate::sweep::checkpoint::{Checkpoint, Header, checkpoint_path};
@@ -269,7 +270,11 @@ pub fn run_sweep(cfg: &SweepConfig, output: &Path, options: &SweepOptions) -> Re
     };
     let threads = pool.current_num_threads();
     let total: usize = todo.iter().map(|t| t.paths.len() * t.pressures.len()).sum();
-    let progress = Progress::new(options.progress, total, options.log_interval);
+    let progress = Arc::new(Progress::new(options.progress, total, options.log_interval));
+    let on_level: LevelObserver = {
+        let progress = Arc::clone(&progress);
+        Arc::new(move |r: &LevelReport| progress.level(r))
+    };
     let results: Mutex<Vec<(usize, PathPiece)>> = Mutex::new(Vec::new());
     let first_error: Mutex<Option<Error>> = Mutex::new(None);
     let stop = AtomicBool::new(false);
@@ -304,6 +309,7 @@ pub fn run_sweep(cfg: &SweepConfig, output: &Path, options: &SweepOptions) -> Re
                 task.pressures.clone(),
                 cfg.sweep.continuation,
                 &on_point,
+                Some(&on_level),
             );
             for (&k, o) in task.paths.iter().zip(pieces) {
                 let t = Instant::now();

@@ -903,3 +903,81 @@ method = "two-phase"
     );
     assert!(marked(0.0).is_empty());
 }
+
+/// A 3D adaptive path reports each level as it ends and each point before
+/// the next one is refined (`solve_case_observed`): the egg box of
+/// `tables/egg_box_on_flat.toml` on `[4, 4, 2]` / `[3, 3, 2]`, plain
+/// two-phase, at 30 and 100 kPa, two levels at most. Each pressure's reports
+/// are its levels in order with growing unknowns, the last one's the
+/// point's unknowns, jump and relative estimate, and a stop where the
+/// refinement stopped; a point arrives after its own levels and before the
+/// next pressure's.
+#[test]
+fn a_3d_path_reports_its_levels_and_points_as_they_end() {
+    use std::sync::{Arc, Mutex};
+    use tcgen::homogenize::{LevelObserver, LevelReport, solve_case_observed};
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tables/egg_box_on_flat.toml");
+    let mut c = Case::read(&path).unwrap();
+    let d = &mut c.discretization;
+    d.elements_upper = [4, 4, 2].into();
+    d.elements_lower = [3, 3, 2].into();
+    d.target_error = Some(0.01);
+    d.max_levels = 2;
+    c.homogenization.method = Method::TwoPhase;
+    c.load.pressures = vec![3.0e4, 1.0e5];
+    let reports: Arc<Mutex<Vec<LevelReport>>> = Arc::default();
+    let observer: LevelObserver = {
+        let reports = Arc::clone(&reports);
+        Arc::new(move |r: &LevelReport| reports.lock().unwrap().push(r.clone()))
+    };
+    // The levels seen when each point arrived.
+    let mut seen_at_point = Vec::new();
+    let results = solve_case_observed(
+        &c,
+        None,
+        |r| seen_at_point.push((r.pressure, reports.lock().unwrap().len())),
+        Some(observer),
+    )
+    .unwrap();
+    let reports = reports.lock().unwrap().clone();
+    assert_eq!(results.len(), 2);
+    let mut seen = 0;
+    for (k, r) in results.iter().enumerate() {
+        assert!(r.converged, "{:?}", r.status);
+        let own: Vec<&LevelReport> = reports
+            .iter()
+            .filter(|l| l.pressure == r.pressure)
+            .collect();
+        assert!(!own.is_empty(), "no level reported at {} Pa", r.pressure);
+        for (i, l) in own.iter().enumerate() {
+            assert_eq!(l.level, i + 1);
+            assert_eq!(l.max_levels, 2);
+            assert!(l.seconds > 0.0);
+            if i > 0 {
+                assert!(l.dofs > own[i - 1].dofs, "{l}");
+            }
+            assert_eq!(l.stop.is_some(), i + 1 == own.len(), "{l}");
+        }
+        let last = own.last().unwrap();
+        assert_eq!(last.dofs, r.dofs);
+        let (jump, estimate) = last.jump.expect("a solved level");
+        assert_eq!(jump, r.jump);
+        let relative = r.jump_error.unwrap() / r.jump.abs();
+        assert!(
+            (estimate - relative).abs() <= 1e-12 * relative,
+            "{estimate} {relative}"
+        );
+        let stop = r.refinement_stop.as_deref().unwrap();
+        assert!(
+            last.stop.as_deref() == Some(stop),
+            "{last} against the point's stop {stop}"
+        );
+        // Streamed: the point came after its own levels, before the next's.
+        seen += own.len();
+        assert_eq!(seen_at_point[k], (r.pressure, seen), "point {k}");
+        // And the line says what a user needs.
+        let line = last.to_string();
+        assert!(line.contains("unknowns") && line.contains("jump"), "{line}");
+    }
+    assert_eq!(seen, reports.len());
+}
