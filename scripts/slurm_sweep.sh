@@ -11,6 +11,8 @@
 # Environment: TCGEN (the binary, default target/release/tcgen),
 # SBATCH_ARGS (extra sbatch options, e.g. "--partition=short --time=04:00:00"),
 # CPUS (cores per task, default 2).
+# Give tasks memory with SBATCH_ARGS="--mem=…": tcgen reads the task's
+# control-group limit and refuses what would not fit there (schemas/case.md).
 set -euo pipefail
 if [ -n "${SLURM_ARRAY_TASK_ID:-}" ] && [ "${TCGEN_SLURM_ROLE:-}" = shard ]; then
     # One shard (inside the array job).

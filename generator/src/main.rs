@@ -725,7 +725,12 @@ fn check(file: &std::path::Path, threads: Option<usize>) -> ExitCode {
             "# adaptive (target_error {}): meshes grow up to max_dofs = {} unknowns, about {} per solve at that size; Newton's relative tolerance {:.0e} (at least {:.0e} · target_error)",
             d.target_error.unwrap_or_default(),
             d.max_dofs,
-            format_bytes(resources::memory_for(d.max_dofs, d.degree, dim)),
+            format_bytes(resources::memory_for(
+                d.max_dofs,
+                d.degree,
+                dim,
+                resources::QuadraturePoints::of(&case)
+            )),
             tcgen::homogenize::path::newton_settings(&case).relative_tolerance,
             tcgen::homogenize::path::newton_target_share(case.dimension())
         );

@@ -22,6 +22,7 @@ use crate::sample::micro::{
     measure_but_contact, place_at_first_touch, slave_body,
 };
 use crate::sample::vtk::{Fields, PointInfo, VtkSeries};
+use crate::solve::resources::{format_bytes, process_memory};
 use crate::solve::{Model, NON_FINITE_RESIDUAL, Newton, NewtonSettings, NonlinearProblem};
 use crate::{Error, Result};
 
@@ -822,7 +823,7 @@ impl<'a> PathSolver<'a> {
             best = solved;
             if trace {
                 eprintln!(
-                    "adapt {pressure:e} Pa: level {level}, {} unknowns, levels {:?}, jump {:?}, estimate {:?}, contact {:.5}, fitted regime {regime:?}; built in {built:.1} s (marks {marked:.1} s, refinement {:.1} s, previous level released {released:.1} s, model {:.1} s, transfer {:.1} s), solved in {:.1} s",
+                    "adapt {pressure:e} Pa: level {level}, {} unknowns, levels {:?}, jump {:?}, estimate {:?}, contact {:.5}, fitted regime {regime:?}; built in {built:.1} s (marks {marked:.1} s, refinement {:.1} s, previous level released {released:.1} s, model {:.1} s, transfer {:.1} s), solved in {:.1} s; the process's peak resident memory so far {}",
                     best[0].dofs,
                     best[0].levels,
                     best.iter().map(|r| r.jump).collect::<Vec<_>>(),
@@ -831,7 +832,8 @@ impl<'a> PathSolver<'a> {
                     refined - marked - released,
                     modelled - refined,
                     built - modelled,
-                    clock.elapsed().as_secs_f64() - built
+                    clock.elapsed().as_secs_f64() - built,
+                    process_memory("VmHWM:").map_or("unknown".into(), |b| format_bytes(b as f64))
                 );
             }
             met = level >= MIN_ADAPTIVE_LEVELS

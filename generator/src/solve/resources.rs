@@ -38,6 +38,17 @@
 //!   is an upper estimate for tensor meshes. At p = 3 it gives 1.5 times
 //!   the 979 MB measured on `[12, 12, 6]`.
 //!
+//! The bulk quadrature (about 1 kB per Gauss point) and the contact points'
+//! states grow with the points per element ([`QuadraturePoints`]): the
+//! coefficient `c` is the one fitted at the points above (3D: 3 × 3 × 3 bulk
+//! and 4 × 4 interface points, `tables/egg_box_on_flat.toml`'s; 2D: the
+//! defaults), plus a share per point beyond them, measured in 3D on a
+//! random areal surface's fourth adaptive level (stop 71: 6.30, 8.11 and
+//! 9.92 GB with 3/4, 3/8 and 4/8 points, the last the defaults, where the
+//! model without these terms gave 0.58 times the peak; now 0.90–0.94), and
+//! in 2D on the Sect. 5.7 sample (128 × 64 elements: 528, 655 and 536 MB
+//! with 4/8, 6/8 and 4/16 points).
+//!
 //! Until stop 62 the 3D model was fitted on the coupled four-field LU of
 //! `tcgen bench --only solvers3d` (`N^1.46`); it put the fixed `[24, 24,
 //! 12]` egg box at 26.2 GB, refused it on a 24 GB machine, and the solve
@@ -76,6 +87,23 @@ const BASE_BYTES_3D: f64 = 100e6;
 const BYTES_PER_UNKNOWN: f64 = 5100.0;
 /// Coefficient of `N^MEMORY_EXPONENT` at p = 2 in 3D.
 const BYTES_PER_UNKNOWN_3D: f64 = 12000.0;
+/// Added to [`BYTES_PER_UNKNOWN_3D`] per bulk Gauss point of an element
+/// beyond the fitted 27 ([`QuadraturePoints::fitted`]): a random areal
+/// surface's fourth adaptive level (142 828 unknowns) took 8.11 GB with
+/// 3 × 3 × 3 points and 9.92 GB with 4 × 4 × 4 (stop 71).
+const BYTES_PER_BULK_POINT_3D: f64 = 94.0;
+/// Added to [`BYTES_PER_UNKNOWN_3D`] per interface point of a slave face
+/// element beyond the fitted 16: the same level took 6.30 GB with 4 × 4
+/// points (141 836 unknowns) and 8.11 GB with 8 × 8 (stop 71).
+const BYTES_PER_INTERFACE_POINT_3D: f64 = 87.0;
+/// Added to [`BYTES_PER_UNKNOWN`] per bulk Gauss point of an element beyond
+/// the fitted 16: `tables/sinusoid_on_flat.toml` on 128 × 64 / 108 × 56
+/// elements (45 140 unknowns) took 528 MB with 4 × 4 points and 655 MB with
+/// 6 × 6 (stop 71).
+const BYTES_PER_BULK_POINT: f64 = 48.0;
+/// Added to [`BYTES_PER_UNKNOWN`] per interface point of a slave face
+/// element beyond the fitted 8: the same mesh took 536 MB with 16 (stop 71).
+const BYTES_PER_INTERFACE_POINT: f64 = 8.0;
 /// Exponent of the unknowns in both dimensions.
 const MEMORY_EXPONENT: f64 = 1.1;
 
@@ -90,15 +118,73 @@ pub struct ResourceEstimate {
     pub memory: f64,
 }
 
+/// Gauss points per direction of a case: bulk (`bulk_points`) and per slave
+/// face element (`[contact] interface_points`), which set the quadrature's
+/// and the contact points' share of the memory.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct QuadraturePoints {
+    /// Bulk points per direction.
+    pub bulk: usize,
+    /// Interface points per direction of a slave face element.
+    pub interface: usize,
+}
+
+impl QuadraturePoints {
+    /// The case's points (the bulk default `p + 2`).
+    pub fn of(case: &Case) -> Self {
+        let d = &case.discretization;
+        Self {
+            bulk: d
+                .bulk_points
+                .unwrap_or_else(|| crate::quadrature::default_bulk_points(d.degree)),
+            interface: case.contact.interface_points,
+        }
+    }
+
+    /// The points the model's coefficient was fitted at in dimension `dim`:
+    /// `tables/egg_box_on_flat.toml`'s 3 and 4 in 3D, the defaults (`p + 2`
+    /// = 4, and 8) of the Sect. 5.7 sample in 2D.
+    pub fn fitted(dim: usize) -> Self {
+        if dim == 3 {
+            Self {
+                bulk: 3,
+                interface: 4,
+            }
+        } else {
+            Self {
+                bulk: 4,
+                interface: 8,
+            }
+        }
+    }
+}
+
 /// Estimated peak memory (bytes) of a solve with `unknowns` unknowns at
-/// degree `p` in dimension `dim` (2 or 3; module documentation).
-pub fn memory_for(unknowns: usize, degree: usize, dim: usize) -> f64 {
+/// degree `p` in dimension `dim` (2 or 3) with `points` (module
+/// documentation).
+pub fn memory_for(unknowns: usize, degree: usize, dim: usize, points: QuadraturePoints) -> f64 {
     let stencil = ((2 * degree + 1) as f64 / 5.0).powi(dim as i32);
-    let (base, c) = if dim == 3 {
-        (BASE_BYTES_3D, BYTES_PER_UNKNOWN_3D)
+    let (base, c, per_bulk, per_interface) = if dim == 3 {
+        (
+            BASE_BYTES_3D,
+            BYTES_PER_UNKNOWN_3D,
+            BYTES_PER_BULK_POINT_3D,
+            BYTES_PER_INTERFACE_POINT_3D,
+        )
     } else {
-        (BASE_BYTES, BYTES_PER_UNKNOWN)
+        (
+            BASE_BYTES,
+            BYTES_PER_UNKNOWN,
+            BYTES_PER_BULK_POINT,
+            BYTES_PER_INTERFACE_POINT,
+        )
     };
+    let fitted = QuadraturePoints::fitted(dim);
+    let count = |n: usize, k: usize| n.pow(k as u32) as f64;
+    let points_term = per_bulk * (count(points.bulk, dim) - count(fitted.bulk, dim))
+        + per_interface * (count(points.interface, dim - 1) - count(fitted.interface, dim - 1));
+    // Fewer points than fitted save at most half (the factor stays).
+    let c = (c + points_term).max(0.5 * c);
     base + c * stencil * (unknowns as f64).powf(MEMORY_EXPONENT)
 }
 
@@ -129,7 +215,7 @@ pub fn estimate(case: &Case) -> ResourceEstimate {
     ResourceEstimate {
         control_points,
         unknowns,
-        memory: memory_for(unknowns, p, dim),
+        memory: memory_for(unknowns, p, dim, QuadraturePoints::of(case)),
     }
 }
 
@@ -144,9 +230,10 @@ pub fn process_memory(key: &str) -> Option<u64> {
 }
 
 /// Bytes of memory this process may use: `TCGEN_MEMORY_LIMIT` (bytes, or
-/// with a suffix K, M, G, T, powers of 1024) if set, else the available
-/// memory of the machine (`MemAvailable` in `/proc/meminfo`); `None` where
-/// neither is known.
+/// with a suffix K, M, G, T, powers of 1024) if set, else the smaller of the
+/// machine's available memory (`MemAvailable` in `/proc/meminfo`) and what
+/// its control group leaves ([`cgroup_memory_left`]: a cluster job's
+/// `--mem`); `None` where none is known.
 pub fn memory_limit() -> Result<Option<f64>> {
     if let Ok(v) = std::env::var("TCGEN_MEMORY_LIMIT") {
         return parse_bytes(&v).map(Some).ok_or_else(|| {
@@ -157,24 +244,109 @@ pub fn memory_limit() -> Result<Option<f64>> {
             )
         });
     }
-    let Ok(text) = std::fs::read_to_string("/proc/meminfo") else {
-        return Ok(None);
+    let available = std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|text| {
+            text.lines()
+                .find_map(|l| l.strip_prefix("MemAvailable:"))
+                .and_then(|r| r.trim().strip_suffix("kB"))
+                .and_then(|kb| kb.trim().parse::<f64>().ok())
+        })
+        .map(|kb| kb * 1024.0);
+    let group = std::fs::read_to_string("/proc/self/cgroup")
+        .ok()
+        .and_then(|own| cgroup_memory_left(std::path::Path::new(CGROUP_ROOT), &own));
+    Ok(match (available, group) {
+        (Some(a), Some(g)) => Some(a.min(g)),
+        (a, g) => a.or(g),
+    })
+}
+
+/// Where the control groups are mounted (`/sys/fs/cgroup`: the unified v2
+/// hierarchy, or v1's `memory/` below it).
+const CGROUP_ROOT: &str = "/sys/fs/cgroup";
+
+/// Bytes the memory control group of this process still leaves it: the
+/// smallest over the group and its ancestors of its limit less its usage
+/// (less the inactive file cache, which the kernel reclaims before it
+/// kills), as the kernel's out-of-memory killer sees it; `None` where no
+/// group has a limit. A batch scheduler (Slurm's `--mem`, a container's
+/// limit) enforces its limit there, while `MemAvailable` shows the whole
+/// node. `own` is `/proc/self/cgroup`; under `root` the v2 hierarchy
+/// (`memory.max`, `memory.current`) or v1's `memory/` (`memory.limit_in_bytes`,
+/// `memory.usage_in_bytes`), each `memory.stat` giving the inactive file
+/// cache. A group's directory that is not visible (another namespace) is
+/// looked for from the mount's root.
+pub fn cgroup_memory_left(root: &std::path::Path, own: &str) -> Option<f64> {
+    // (hierarchy directory, limit file, usage file, inactive cache key)
+    let mut hierarchies = Vec::new();
+    for line in own.lines() {
+        let mut parts = line.splitn(3, ':');
+        let (Some(id), Some(controllers), Some(path)) = (parts.next(), parts.next(), parts.next())
+        else {
+            continue;
+        };
+        let path = path.trim().trim_start_matches('/');
+        if id == "0" && controllers.is_empty() {
+            hierarchies.push((
+                root.to_path_buf(),
+                path,
+                "memory.max",
+                "memory.current",
+                "inactive_file",
+            ));
+        } else if controllers.split(',').any(|c| c == "memory") {
+            hierarchies.push((
+                root.join("memory"),
+                path,
+                "memory.limit_in_bytes",
+                "memory.usage_in_bytes",
+                "total_inactive_file",
+            ));
+        }
+    }
+    let read_number = |file: &std::path::Path| -> Option<f64> {
+        let text = std::fs::read_to_string(file).ok()?;
+        text.trim().parse::<f64>().ok()
     };
-    Ok(text
-        .lines()
-        .find_map(|l| l.strip_prefix("MemAvailable:"))
-        .and_then(|r| r.trim().strip_suffix("kB"))
-        .and_then(|kb| kb.trim().parse::<f64>().ok())
-        .map(|kb| kb * 1024.0))
+    let mut left: Option<f64> = None;
+    for (mount, path, limit_file, usage_file, inactive_key) in hierarchies {
+        // The group's directory, or the mount's root where it is not there.
+        let mut dir = mount.join(path);
+        if !dir.is_dir() {
+            dir = mount.clone();
+        }
+        loop {
+            // "max" (v2) does not parse; v1's "no limit" is near 2^63.
+            if let Some(limit) = read_number(&dir.join(limit_file)).filter(|l| *l < 1e18) {
+                let usage = read_number(&dir.join(usage_file)).unwrap_or(0.0);
+                let inactive = std::fs::read_to_string(dir.join("memory.stat"))
+                    .ok()
+                    .and_then(|stat| {
+                        stat.lines().find_map(|l| {
+                            let (key, value) = l.split_once(' ')?;
+                            (key == inactive_key).then(|| value.trim().parse::<f64>().ok())?
+                        })
+                    })
+                    .unwrap_or(0.0);
+                let here = (limit - (usage - inactive).max(0.0)).max(0.0);
+                left = Some(left.map_or(here, |l| l.min(here)));
+            }
+            if dir == mount || !dir.pop() || !dir.starts_with(&mount) {
+                break;
+            }
+        }
+    }
+    left
 }
 
 /// Where [`memory_left`] takes its figure from, for messages.
-pub const MEMORY_LEFT_SOURCE: &str =
-    "TCGEN_MEMORY_LIMIT less the resident memory if set, else the machine's MemAvailable";
+pub const MEMORY_LEFT_SOURCE: &str = "TCGEN_MEMORY_LIMIT less the resident memory if set, else the smaller of the machine's MemAvailable and its control group's limit less its usage";
 
 /// Bytes this process may still allocate: `TCGEN_MEMORY_LIMIT` less its
-/// resident memory if set, else the machine's available memory
-/// (`MemAvailable`); `None` where neither is known.
+/// resident memory if set, else [`memory_limit`] (the machine's available
+/// memory, or its control group's limit less its usage if smaller); `None`
+/// where neither is known.
 pub fn memory_left() -> Result<Option<f64>> {
     let limit = memory_limit()?;
     Ok(match std::env::var_os("TCGEN_MEMORY_LIMIT") {
@@ -301,6 +473,17 @@ mod tests {
             let ratio = e.memory / measured;
             assert!((0.85..1.15).contains(&ratio), "{upper:?}: {ratio}");
         }
+        // The points per element on the finest mesh's 3-pressure path
+        // (stop 71; it peaks below the 6-pressure path above, 528 MB with
+        // the defaults): the model keeps its ratio to them.
+        let ratio = |bulk, interface, measured: f64| {
+            memory_for(45_140, 2, 2, QuadraturePoints { bulk, interface }) / measured
+        };
+        let defaults = ratio(4, 8, 515_664.0 * 1024.0);
+        for (bulk, interface, measured) in [(6, 8, 640_080.0), (4, 16, 523_496.0)] {
+            let r = ratio(bulk, interface, measured * 1024.0) / defaults;
+            assert!((0.95..1.05).contains(&r), "{bulk} / {interface}: {r}");
+        }
     }
 
     /// 3D: `Π (n_i + p)` control points × 4 fields plus two multipliers per
@@ -314,7 +497,8 @@ mod tests {
     fn estimate_3d_counts_and_memory() {
         let case = Case::from_toml(
             "[sample]\ndimension = 3\n[surface.upper]\nkind = \"flat\"\n[surface.lower]\nkind = \"flat\"\n\
-             [discretization]\nelements_upper = [8, 8, 4]\nelements_lower = [7, 6, 4]\n",
+             [discretization]\nelements_upper = [8, 8, 4]\nelements_lower = [7, 6, 4]\n\
+             bulk_points = 3\n[contact]\ninterface_points = 4\n",
             std::path::Path::new("."),
         )
         .unwrap();
@@ -356,9 +540,116 @@ mod tests {
             (267_760, 11.0e6 * kib),
             (358_352, 15.4e6 * kib),
         ] {
-            let ratio = memory_for(unknowns, 2, 3) / measured;
+            let ratio = memory_for(unknowns, 2, 3, QuadraturePoints::fitted(3)) / measured;
             assert!((0.9..1.1).contains(&ratio), "adaptive {unknowns}: {ratio}");
         }
+        // A random areal surface's fourth adaptive level with the case's
+        // points and the defaults (stop 71: RMS 0.5 μm, ℓ 2.5 μm, seed 7,
+        // 30 kPa; docs/3d.md "Memory model in 3D"); the model without the
+        // points' terms gives 0.57 times the defaults' peak, which fails.
+        for (bulk, interface, unknowns, measured) in [
+            (3, 4, 141_836, 6_152_256.0 * kib),
+            (3, 8, 142_828, 8_106_344.0 * kib),
+            (4, 8, 142_828, 9_687_784.0 * kib),
+        ] {
+            let points = QuadraturePoints { bulk, interface };
+            let ratio = memory_for(unknowns, 2, 3, points) / measured;
+            assert!((0.85..1.15).contains(&ratio), "{points:?}: {ratio}");
+        }
+        let mut defaults = case.clone();
+        defaults.discretization.bulk_points = None;
+        defaults.contact.interface_points = 8;
+        assert_eq!(
+            QuadraturePoints::of(&defaults),
+            QuadraturePoints {
+                bulk: 4,
+                interface: 8
+            }
+        );
+    }
+
+    /// The control group's limit less its usage (less the inactive file
+    /// cache), the smallest over its ancestors, in both hierarchies; no
+    /// figure where no group limits memory.
+    #[test]
+    fn control_group_limits_what_is_left() {
+        let root = std::env::temp_dir().join(format!("tcgen-cgroup-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&root);
+        let write = |dir: &str, files: &[(&str, &str)]| {
+            let d = root.join(dir);
+            std::fs::create_dir_all(&d).unwrap();
+            for (name, text) in files {
+                std::fs::write(d.join(name), text).unwrap();
+            }
+        };
+        // v2: a Slurm job's limit on the job, none on the root or the step.
+        write("", &[("memory.max", "max\n")]);
+        write(
+            "job_1",
+            &[
+                ("memory.max", "1000000000\n"),
+                ("memory.current", "400000000\n"),
+                ("memory.stat", "anon 300000000\ninactive_file 100000000\n"),
+            ],
+        );
+        write(
+            "job_1/step_0",
+            &[("memory.max", "max\n"), ("memory.current", "5\n")],
+        );
+        let left = cgroup_memory_left(&root, "0::/job_1/step_0\n");
+        assert_eq!(left, Some(7e8));
+        // A tighter step: the smallest over the ancestors.
+        write(
+            "job_1/step_0",
+            &[
+                ("memory.max", "500000000\n"),
+                ("memory.current", "200000000\n"),
+            ],
+        );
+        assert_eq!(cgroup_memory_left(&root, "0::/job_1/step_0\n"), Some(3e8));
+        // Usage above the limit leaves nothing, not a negative figure.
+        write(
+            "job_1/step_0",
+            &[
+                ("memory.max", "500000000\n"),
+                ("memory.current", "900000000\n"),
+            ],
+        );
+        assert_eq!(cgroup_memory_left(&root, "0::/job_1/step_0\n"), Some(0.0));
+        // A group not visible here (another namespace): the mount's root.
+        write(
+            "",
+            &[
+                ("memory.max", "3000000000\n"),
+                ("memory.current", "1000000000\n"),
+            ],
+        );
+        assert_eq!(cgroup_memory_left(&root, "0::/elsewhere/job\n"), Some(2e9));
+        // v1: the memory controller's hierarchy, its total_inactive_file.
+        let v1 = "12:cpu,cpuacct:/slurm/job\n4:memory:/slurm/uid_0/job_2\n0::/\n";
+        std::fs::remove_file(root.join("memory.max")).unwrap();
+        write(
+            "memory",
+            &[("memory.limit_in_bytes", "9223372036854771712\n")],
+        );
+        write(
+            "memory/slurm/uid_0/job_2",
+            &[
+                ("memory.limit_in_bytes", "600000000\n"),
+                ("memory.usage_in_bytes", "250000000\n"),
+                ("memory.stat", "cache 1\ntotal_inactive_file 50000000\n"),
+            ],
+        );
+        assert_eq!(cgroup_memory_left(&root, v1), Some(4e8));
+        // No limit anywhere (v1's "no limit", v2's "max"): no figure.
+        write(
+            "memory/slurm/uid_0/job_2",
+            &[("memory.limit_in_bytes", "9223372036854771712\n")],
+        );
+        write("", &[("memory.max", "max\n")]);
+        assert_eq!(cgroup_memory_left(&root, v1), None);
+        assert_eq!(cgroup_memory_left(&root, "garbage\n"), None);
+        std::fs::remove_dir_all(&root).unwrap();
     }
 
     #[test]
