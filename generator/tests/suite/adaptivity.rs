@@ -980,4 +980,12 @@ fn a_3d_path_reports_its_levels_and_points_as_they_end() {
         assert!(line.contains("unknowns") && line.contains("jump"), "{line}");
     }
     assert_eq!(seen, reports.len());
+    // The process's peak memory where Linux gives it (`VmHWM`, which the
+    // kernel updates lazily: a later reading may be a little lower).
+    if std::path::Path::new("/proc/self/status").exists() {
+        for l in &reports {
+            assert!(l.peak_memory.is_some_and(|b| b > 1 << 20), "{l}");
+            assert!(l.to_string().contains(", peak memory "), "{l}");
+        }
+    }
 }
