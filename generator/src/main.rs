@@ -48,7 +48,7 @@ enum Command {
         vtk: Option<std::path::PathBuf>,
         /// Print no progress of the adaptive levels (by default, on standard
         /// error, each level that took a second or more: pressure, level,
-        /// unknowns, jump and its estimate, time).
+        /// unknowns, jump and its estimate, time, peak memory).
         #[arg(long)]
         quiet: bool,
     },
