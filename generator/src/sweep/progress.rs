@@ -91,11 +91,17 @@ impl Progress {
         if let Some(b) = &self.bar {
             b.inc(1);
         }
+        self.log_line("");
+    }
+
+    /// In log mode, the periodic line with `suffix`, at most once per
+    /// interval.
+    fn log_line(&self, suffix: &str) {
         if let Some((interval, last)) = &self.log {
             let mut last = last.lock().unwrap_or_else(|e| e.into_inner());
             if last.elapsed() >= *interval {
                 *last = Instant::now();
-                eprintln!("{}", self.line());
+                eprintln!("{}{suffix}", self.line());
             }
         }
     }
@@ -114,12 +120,8 @@ impl Progress {
         if let Some(b) = &self.bar {
             b.set_message(format!("{failed}last level: {report}"));
         }
-        if let Some((interval, last)) = &self.log {
-            let mut last = last.lock().unwrap_or_else(|e| e.into_inner());
-            if last.elapsed() >= *interval {
-                *last = Instant::now();
-                eprintln!("{}; last level: {report}", self.line());
-            }
+        if self.log.is_some() {
+            self.log_line(&format!("; last level: {report}"));
         }
     }
 
