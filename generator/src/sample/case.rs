@@ -555,11 +555,11 @@ impl Case {
             if d.target_error.is_some() {
                 out.push(
                     "degree 1 in 3D: adaptive refinement (target_error) can miss its target \
-                     unseen: the estimate assumes the order 3/2 measured at degree 2, and \
-                     degree-1 levels converge more slowly (the egg box of \
+                     unseen: the degree-1 levels settle away from the converged jump, which \
+                     no difference between levels shows (the egg box of \
                      tables/egg_box_on_flat.toml from [8, 8, 4] at 11.5 kPa met a 1 % target \
                      with an estimate of 0.63 % and lies 2.4 % above degree 2's converged \
-                     jump); with the segment cells its third level does not converge (the \
+                     jump; a fifth level moves it by 0.01 %); with the segment cells its third level does not converge (the \
                      second's result is kept, flagged; docs/3d.md, \"Stop 73\"); degree 2 \
                      for adaptive runs"
                         .to_string(),

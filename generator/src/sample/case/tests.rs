@@ -434,8 +434,8 @@ fn errors_name_the_key() {
 }
 
 /// Degree 1 in 3D is valid but known to stall under load with element-based
-/// contact points and to converge too slowly for the adaptive estimate
-/// (docs/3d.md, "Stop 67", "Stop 73"): the
+/// contact points and, adaptive, to settle away from the converged jump
+/// unseen by the estimate (docs/3d.md, "Stop 67", "Stop 73"): the
 /// case says so before it runs; degree 2 and 2D say nothing.
 #[test]
 fn degree_1_in_3d_comes_with_its_cautions() {
