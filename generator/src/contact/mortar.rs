@@ -57,6 +57,7 @@ use crate::contact::{
 use crate::geometry::{Side, ThbPatch};
 use crate::quadrature::GaussLegendre;
 use crate::solve::dofs::DofMap;
+use crate::solve::golden_search;
 use crate::{Error, Result};
 
 mod edge3d;
@@ -2616,37 +2617,17 @@ fn amplitude_misfit(model: &[f64], data: &[f64]) -> Option<f64> {
 }
 
 /// The minimizer of `f` on `[lo, hi]` (`None` where `f` is undefined):
-/// the best of `samples + 1` equally spaced samples, then 40 steps of
-/// golden-section search between its neighbours, each step evaluating `f`
-/// once (the interior point it keeps is the other's golden point).
+/// the best of `samples + 1` equally spaced samples, then golden-section
+/// search between its neighbours (41 evaluations, [`golden_search`]); the
+/// middle of the last bracket.
 fn minimize_on(f: impl Fn(f64) -> Option<f64>, lo: f64, hi: f64, samples: usize) -> Option<f64> {
     let step = (hi - lo) / samples as f64;
     let best = (0..=samples)
         .map(|k| lo + step * k as f64)
         .filter_map(|x| f(x).map(|m| (x, m)))
         .min_by(|a, b| a.1.total_cmp(&b.1))?;
-    let (mut a, mut b) = ((best.0 - step).max(lo), (best.0 + step).min(hi));
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    let value = |x: f64| f(x).unwrap_or(f64::MAX);
-    let (mut x1, mut x2) = (b - g * (b - a), a + g * (b - a));
-    let (mut f1, mut f2) = (value(x1), value(x2));
-    for _ in 1..40 {
-        if f1 < f2 {
-            (b, x2, f2) = (x2, x1, f1);
-            x1 = b - g * (b - a);
-            f1 = value(x1);
-        } else {
-            (a, x1, f1) = (x1, x2, f2);
-            x2 = a + g * (b - a);
-            f2 = value(x2);
-        }
-    }
-    if f1 < f2 {
-        b = x2
-    } else {
-        a = x1
-    }
-    Some(0.5 * (a + b))
+    let bracket = ((best.0 - step).max(lo), (best.0 + step).min(hi));
+    Some(golden_search(|x| f(x).unwrap_or(f64::MAX), bracket, 39).midpoint())
 }
 
 /// For each element of a 3D master face, the elements whose parameter boxes

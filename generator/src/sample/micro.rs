@@ -17,7 +17,7 @@ use crate::geometry::{
 };
 use crate::material::Material;
 use crate::sample::case::{Case, ElementCounts, LateralCondition, MasterBody, TopLateral};
-use crate::solve::{Model, ModelBuilder, NonlinearProblem, Scales};
+use crate::solve::{Model, ModelBuilder, NonlinearProblem, Scales, golden_search};
 use crate::surface::Surface;
 use crate::surface::areal::ArealSurface;
 use crate::{Error, Result};
@@ -153,7 +153,7 @@ fn maximum_on_cell(f: impl Fn(f64, f64) -> f64, w: f64, n: usize) -> f64 {
 }
 
 /// The maximum of `f(x)` over `[0, W]`: the best of `n + 1` samples, refined
-/// by golden-section search around it.
+/// by golden-section search around it ([`golden_search`]).
 fn maximum_on_interval(f: impl Fn(f64) -> f64, w: f64, n: usize) -> f64 {
     let (mut xb, mut gb) = (0.0, f64::NEG_INFINITY);
     for i in 0..=n {
@@ -163,13 +163,8 @@ fn maximum_on_interval(f: impl Fn(f64) -> f64, w: f64, n: usize) -> f64 {
             (xb, gb) = (x, g);
         }
     }
-    let (mut a, mut b) = ((xb - w / n as f64).max(0.0), (xb + w / n as f64).min(w));
-    let r = 0.5 * (5f64.sqrt() - 1.0);
-    for _ in 0..80 {
-        let (c, e) = (b - r * (b - a), a + r * (b - a));
-        if f(c) > f(e) { b = e } else { a = c }
-    }
-    gb.max(f(0.5 * (a + b)))
+    let bracket = ((xb - w / n as f64).max(0.0), (xb + w / n as f64).min(w));
+    gb.max(f(golden_search(|x| -f(x), bracket, 80).midpoint()))
 }
 
 /// The first-touch offset `max (f2 − f1)` of the exact surfaces `heights =

@@ -3,6 +3,7 @@
 
 use serde::Serialize;
 
+use crate::solve::golden::golden_section;
 use crate::solve::linear::{
     FactorPrecision, Factorization, KRYLOV_MAX_ITERATIONS, KRYLOV_TOLERANCE, LinearSolver, Ordering,
 };
@@ -797,27 +798,28 @@ impl Newton {
             // CYCLE_LINE_SEARCHES of them, or one that finds none, or a cycle
             // far from convergence (left to load stepping's cut-back), the
             // iterations end.
-            let near = residual_merit(&norms, targets) <= CYCLE_SEARCH_MERIT;
+            let merit = residual_merit(&norms, targets);
+            let cycle_failure = |why: String, other: &[f64]| {
+                format!(
+                    "no convergence, the iterates in a cycle of two{why}; residuals {} (the other: {})",
+                    residual_detail(&names, &norms, targets),
+                    residual_detail(&names, other, &[]),
+                )
+            };
+            // The merit to search from, where this iteration's increment is searched.
             let search = match residual_cycle(&history) {
-                Some(_) if near && cycle_searches < CYCLE_LINE_SEARCHES => {
+                Some(_) if merit <= CYCLE_SEARCH_MERIT && cycle_searches < CYCLE_LINE_SEARCHES => {
                     cycle_searches += 1;
-                    true
+                    Some(merit)
                 }
                 Some(other) => {
-                    return Err(fail(
-                        it,
-                        format!(
-                            "no convergence, the iterates in a cycle of two{}; residuals {} (the other: {})",
-                            match cycle_searches {
-                                0 => String::new(),
-                                k => format!(" after {k} line searches along its increments"),
-                            },
-                            residual_detail(&names, &norms, targets),
-                            residual_detail(&names, other, &[]),
-                        ),
-                    ));
+                    let why = match cycle_searches {
+                        0 => String::new(),
+                        k => format!(" after {k} line searches along its increments"),
+                    };
+                    return Err(fail(it, cycle_failure(why, other)));
                 }
-                None => false,
+                None => None,
             };
             if it == self.settings.max_iterations {
                 break;
@@ -925,8 +927,7 @@ impl Newton {
             if r.iter().any(|v| !v.is_finite()) {
                 return Err(fail(it, "non-finite increment".into()));
             }
-            if search {
-                let merit = residual_merit(&norms, targets);
+            if let Some(merit) = search {
                 let (t, found) = cycle_line_search(p, &r, targets)?;
                 if trace {
                     eprintln!(
@@ -935,14 +936,8 @@ impl Newton {
                 }
                 if found >= merit {
                     let other = residual_cycle(&history).expect("a cycle was found");
-                    return Err(fail(
-                        it,
-                        format!(
-                            "no convergence, the iterates in a cycle of two and no smaller residual along the increment; residuals {} (the other: {})",
-                            residual_detail(&names, &norms, targets),
-                            residual_detail(&names, other, &[]),
-                        ),
-                    ));
+                    let why = " and no smaller residual along the increment".to_string();
+                    return Err(fail(it, cycle_failure(why, other)));
                 }
                 r.iter_mut().for_each(|v| *v *= t);
             }
@@ -1131,33 +1126,10 @@ fn cycle_line_search<P: NonlinearProblem + ?Sized>(
     }
     if best.1 > 1.0 && best.1.is_finite() {
         // Golden sections on [t/2, 2t] around the best dyadic step.
-        let g = 0.5 * (5f64.sqrt() - 1.0);
-        let (mut a, mut b) = (0.5 * best.0, (2.0 * best.0).min(1.0));
-        let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
-        let (mut mc, mut md) = (merit_at(p, c)?, merit_at(p, d)?);
-        for _ in 0..GOLDEN_SECTIONS {
-            for (t, m) in [(c, mc), (d, md)] {
-                if m < best.1 {
-                    best = (t, m);
-                }
-            }
-            if best.1 <= 1.0 {
-                break;
-            }
-            if mc < md {
-                (b, d, md) = (d, c, mc);
-                c = b - g * (b - a);
-                mc = merit_at(p, c)?;
-            } else {
-                (a, c, mc) = (c, d, md);
-                d = a + g * (b - a);
-                md = merit_at(p, d)?;
-            }
-        }
-        for (t, m) in [(c, mc), (d, md)] {
-            if m < best.1 {
-                best = (t, m);
-            }
+        let bracket = (0.5 * best.0, (2.0 * best.0).min(1.0));
+        let found = golden_section(|t| merit_at(p, t), bracket, GOLDEN_SECTIONS, |m| m <= 1.0)?;
+        if found.best.1 < best.1 {
+            best = found.best;
         }
     }
     p.restore(&saved);
