@@ -435,8 +435,9 @@ fn errors_name_the_key() {
 
 /// Degree 1 in 3D is valid but known to stall under load with element-based
 /// contact points and, adaptive, to settle away from the converged jump
-/// unseen by the estimate (docs/3d.md, "Stop 67", "Stop 73"): the
-/// case says so before it runs; degree 2 and 2D say nothing.
+/// unseen by the estimate, the bodies' bulk left on the case mesh
+/// (docs/3d.md, "Stop 67", "Stop 73", "Stop 74"): the case says so before
+/// it runs, with the cause; degree 2 and 2D say nothing.
 #[test]
 fn degree_1_in_3d_comes_with_its_cautions() {
     let cautions = |extra: &str, base: &str| {
@@ -455,6 +456,7 @@ fn degree_1_in_3d_comes_with_its_cautions() {
     );
     assert_eq!(c.len(), 1, "{c:?}");
     assert!(c[0].contains("adaptive refinement"), "{c:?}");
+    assert!(c[0].contains("bodies' bulk"), "{c:?}");
     let c = cautions(
         "[discretization]\ndegree = 1\ntarget_error = 0.01\n",
         EGG_BOX,
