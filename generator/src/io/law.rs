@@ -308,6 +308,10 @@ pub fn law_from_table_with(t: &Table, source: &str, options: &LawOptions) -> Res
         ("samples".into(), ns.to_string()),
         ("created".into(), provenance::utc_now()),
     ];
+    if !i.cautions.is_empty() {
+        let all: Vec<String> = i.cautions.iter().map(|c| one_line(c)).collect();
+        provenance.push(("cautions".into(), all.join(" | ")));
+    }
     if let Some((dimension, cell)) = crate::io::table::sample_cell(&i.config) {
         let cell: Vec<String> = cell.iter().map(|w| format!("{w:e}")).collect();
         provenance.push(("dimension".into(), dimension.to_string()));

@@ -481,6 +481,9 @@ pub fn table_to_bytes(t: &Table) -> Result<Vec<u8>> {
         "failed_points",
         NcAttrValue::Ints(vec![t.count(PointStatus::Failed) as i32]),
     )?;
+    if !i.cautions.is_empty() {
+        w.global("cautions", NcAttrValue::Chars(i.cautions.join("\n")))?;
+    }
     if let Some(sh) = i.shard {
         w.global("shard_index", NcAttrValue::Ints(vec![sh.index as i32]))?;
         w.global("shard_count", NcAttrValue::Ints(vec![sh.count as i32]))?;
@@ -659,6 +662,11 @@ pub fn read_table(path: &Path) -> Result<Table> {
         wall_time: wall,
         threads: ints("threads")?.iter().map(|&x| x as i32).collect(),
         shard,
+        // One caution per line; the attribute is absent where there are none.
+        cautions: match f.global_attribute("cautions") {
+            Ok(_) => text("cautions")?.lines().map(String::from).collect(),
+            Err(_) => Vec::new(),
+        },
     };
     let t = Table {
         pressure,
@@ -738,6 +746,11 @@ pub(crate) mod tests {
                 wall_time: 1.5,
                 threads: vec![2],
                 shard,
+                // Written and read back with and without cautions.
+                cautions: match shard {
+                    Some(_) => vec!["degree 1 in 3D: a caution".into(), "another".into()],
+                    None => Vec::new(),
+                },
             },
         }
     }

@@ -162,6 +162,9 @@ pub struct TableInfo {
     pub threads: Vec<i32>,
     /// The shard this file holds, `None` for a complete table.
     pub shard: Option<Shard>,
+    /// The case's known limits ([`crate::sample::Case::cautions`]), which
+    /// `tcgen sweep` printed before it ran; empty where there are none.
+    pub cautions: Vec<String>,
 }
 
 /// A sweep's table: `points` is indexed `[pressure][flux][contact_temperature][sample]`

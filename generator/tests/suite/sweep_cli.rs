@@ -444,6 +444,46 @@ fn a_3d_case_is_checked_solved_tabled_and_mapped() {
     };
     assert_eq!(get("dimension"), Some("3"));
     assert_eq!(get("cell_size"), Some("1e-5 1e-5"));
+    // No cautions at degree 2; at degree 1 in 3D the ones that `tcgen
+    // sweep` prints travel with the table and the law.
+    assert!(t.info.cautions.is_empty(), "{:?}", t.info.cautions);
+    assert_eq!(get("cautions"), None);
+    let sweep_p1 = dir.join("egg_box_sweep_p1.toml");
+    let text_p1 = std::fs::read_to_string(&sweep)
+        .unwrap()
+        .replacen("degree = 2", "degree = 1", 1);
+    std::fs::write(&sweep_p1, text_p1).unwrap();
+    let table_p1 = dir.join("t_p1.h5");
+    let o = Command::new(env!("CARGO_BIN_EXE_tcgen"))
+        .args(["sweep", "--progress", "quiet", "-o"])
+        .arg(&table_p1)
+        .arg(&sweep_p1)
+        .output()
+        .unwrap();
+    let printed = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert!(o.status.success(), "{printed}");
+    let t1 = tcgen::io::read_table(&table_p1).unwrap();
+    let case_p1 = tcgen::sweep::SweepConfig::read(&sweep_p1).unwrap().case;
+    assert_eq!(t1.info.cautions, case_p1.cautions());
+    assert!(!t1.info.cautions.is_empty());
+    for c in &t1.info.cautions {
+        assert!(c.starts_with("degree 1 in 3D"), "{c}");
+        assert!(
+            printed.contains(&format!("caution: {c}")),
+            "{c} not in {printed}"
+        );
+    }
+    let law_p1 = dir.join("t_p1.tclaw");
+    succeeded(tcgen().arg("law").arg("-o").arg(&law_p1).arg(&table_p1));
+    let law_p1 = lookup::Law::open(&law_p1).unwrap();
+    let cautions = law_p1
+        .info()
+        .provenance
+        .iter()
+        .find(|(k, _)| k == "cautions")
+        .map(|(_, v)| v.clone())
+        .expect("the law's cautions");
+    assert!(cautions.starts_with("degree 1 in 3D"), "{cautions}");
     let map = dir.join("egg_box.csv");
     let out = succeeded(
         tcgen()
