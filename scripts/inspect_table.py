@@ -54,6 +54,9 @@ def summary(ds: xr.Dataset) -> str:
             f"  discretization error of jump_mean: {np.nanmin(rel):.2%} .. {np.nanmax(rel):.2%}"
             f" (target not met at {int(np.nansum(met == 0))} of {int(np.isfinite(met).sum())} points)"
         )
+    # The case's known limits, which tcgen sweep printed before it ran.
+    for caution in str(ds.attrs.get("cautions", "")).splitlines():
+        lines.append(f"  caution: {caution}")
     failed = np.argwhere(status == 1)
     for idx in failed[:5]:
         p, h, t, s = idx

@@ -149,6 +149,42 @@ def test_inspect_table_prints_a_summary_and_plots():
     assert c.stat().st_size > 10_000
 
 
+def test_a_table_keeps_its_cautions():
+    """A degree-1 3D table (the egg box on 3 x 3 x 1 elements) carries the
+    cautions that tcgen sweep printed as the global attribute `cautions`,
+    one per line, and scripts/inspect_table.py shows them; the demo table
+    has none."""
+    case = (ROOT / "tables/egg_box_on_flat.toml").read_text()
+    head = (
+        case.split("[load]")[0]
+        .replace("elements_upper = [8, 8, 4]", "elements_upper = [3, 3, 1]")
+        .replace("elements_lower = [7, 7, 4]", "elements_lower = [2, 2, 1]")
+        .replace("degree = 2", "degree = 1", 1)
+    )
+    sweep = WORK / "degree_1_sweep.toml"
+    sweep.write_text(
+        head + "[sweep]\npressures = [1.0e5]\nfluxes = 1.0e6\ncontact_temperatures = 293.15\n"
+    )
+    table = WORK / "degree_1.h5"
+    table.unlink(missing_ok=True)
+    run = subprocess.run(
+        [TCGEN, "sweep", "--progress", "quiet", "-o", str(table), str(sweep)],
+        check=True, capture_output=True, text=True,
+    )
+    printed = [l[len("caution: "):] for l in run.stderr.splitlines() if l.startswith("caution: ")]
+    assert printed and all(c.startswith("degree 1 in 3D") for c in printed), run.stderr
+    with xr.open_dataset(table) as ds:
+        assert ds.attrs["cautions"].splitlines() == printed
+        assert int(ds.attrs["dimension"]) == 3
+    out = subprocess.run(
+        [PYTHON, str(ROOT / "scripts/inspect_table.py"), str(table)],
+        check=True, capture_output=True, text=True,
+    ).stdout
+    assert all(f"caution: {c}" in out for c in printed), out
+    with xr.open_dataset(DEMO) as ds:
+        assert "cautions" not in ds.attrs
+
+
 def test_nightly_builds_tables_plots_and_laws():
     out = WORK / "nightly"
     subprocess.run(["rm", "-rf", str(out)], check=True)
