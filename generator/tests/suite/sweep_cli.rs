@@ -454,7 +454,7 @@ fn a_3d_case_is_checked_solved_tabled_and_mapped() {
         .replacen("degree = 2", "degree = 1", 1);
     std::fs::write(&sweep_p1, text_p1).unwrap();
     let table_p1 = dir.join("t_p1.h5");
-    let o = Command::new(env!("CARGO_BIN_EXE_tcgen"))
+    let o = tcgen()
         .args(["sweep", "--progress", "quiet", "-o"])
         .arg(&table_p1)
         .arg(&sweep_p1)
