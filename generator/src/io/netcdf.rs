@@ -662,10 +662,18 @@ pub fn read_table(path: &Path) -> Result<Table> {
         wall_time: wall,
         threads: ints("threads")?.iter().map(|&x| x as i32).collect(),
         shard,
-        // One caution per line; the attribute is absent where there are none.
-        cautions: match f.global_attribute("cautions") {
-            Ok(_) => text("cautions")?.lines().map(String::from).collect(),
-            Err(_) => Vec::new(),
+        // One caution per line; the attribute is absent where there are none
+        // (a file that cannot list its attributes, or whose `cautions` cannot
+        // be read, is an error, not a table without cautions).
+        cautions: if f
+            .global_attributes()
+            .map_err(rd_err(path))?
+            .iter()
+            .any(|a| a.name == "cautions")
+        {
+            text("cautions")?.lines().map(String::from).collect()
+        } else {
+            Vec::new()
         },
     };
     let t = Table {
