@@ -8,6 +8,7 @@ pub mod abp;
 pub mod adapt;
 pub mod hbp;
 pub mod path;
+pub mod recovery;
 
 pub use abp::{AbpProperties, AbpTemperatures, accompanying_bar};
 pub use path::{LevelObserver, LevelReport, PointResult, Status, solve_case, solve_case_observed};

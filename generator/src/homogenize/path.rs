@@ -11,9 +11,11 @@ use crate::bulk::Coupling;
 use crate::geometry::Side;
 use crate::homogenize::abp::{AbpProperties, AbpTemperatures, accompanying_bar};
 use crate::homogenize::adapt::{
+    BULK_TARGET_SHARE, bulk_approach_error, bulk_indicator_applies, bulk_marks,
     keep_transferred_configuration, mark_contact_edges, refine_bodies, surface_misfit_marks,
     transfer_state, write_two_level_system,
 };
+use crate::homogenize::recovery::{RecoveredErrors, recovered_errors};
 use crate::material::Material;
 use crate::sample::case::{Acceleration, Case, MasterBody, Method};
 use crate::sample::micro::{
@@ -647,6 +649,27 @@ impl<'a> PathSolver<'a> {
             * (self.geometry.fit_upper.max_error() + self.geometry.fit_lower.max_error());
         let g0 = self.geometry.g0;
         let mut hidden: Option<BTreeSet<usize>> = None;
+        // The bulk-resolution indicator (degree 1): the recovered errors of
+        // the last solved mesh and the bulk's estimated relative error of
+        // the approach (`adapt::bulk_approach_error`).
+        let bulk_applies = bulk_indicator_applies(&self.model);
+        let bulk_threshold = BULK_TARGET_SHARE * target;
+        let bulk_of = |m: &Model, r: &[PointResult]| -> Option<(RecoveredErrors, f64)> {
+            if !bulk_applies {
+                return None;
+            }
+            let rec = recovered_errors(m);
+            let approach = r.first().map_or(0.0, |r| r.interface.approach);
+            let error = bulk_approach_error(m, &rec, pressure, case.sample.width, approach)?;
+            if trace {
+                eprintln!(
+                    "adapt {pressure:e} Pa: the bulk's estimated approach error {:.3} % of the approach {approach:.6e} m (recovered gradients)",
+                    100.0 * error,
+                );
+            }
+            Some((rec, error))
+        };
+        let mut bulk = bulk_of(&self.model, &best);
         let mut fine: Option<PathSolver<'a>> = None;
         for level in 1..=d.max_levels {
             let (src, src_bodies, src_newton) = match fine.as_mut() {
@@ -677,7 +700,12 @@ impl<'a> PathSolver<'a> {
                     misfit.len()
                 );
             }
-            let marks = mark_contact_edges(src, slave, &misfit)?;
+            let mut marks = mark_contact_edges(src, slave, &misfit)?;
+            if let Some((rec, error)) = bulk.take()
+                && error > bulk_threshold
+            {
+                marks.extend(bulk_marks(src, &rec));
+            }
             let marked = clock.elapsed().as_secs_f64();
             let bodies = refine_bodies(src_bodies, &marks);
             // Resolving the faces keeps the control points.
@@ -851,6 +879,19 @@ impl<'a> PathSolver<'a> {
                     .iter()
                     .zip(&best)
                     .all(|(e, r)| *e <= target * r.jump.abs());
+            // The estimate sees the bulk only where the levels refined it:
+            // while the bulk's estimated approach error exceeds its share of
+            // the target, the refinement goes on, marking the bulk too.
+            bulk = bulk_of(&next.model, &best);
+            if met && bulk.as_ref().is_some_and(|b| b.1 > bulk_threshold) {
+                if trace {
+                    eprintln!(
+                        "adapt {pressure:e} Pa: level {level} meets the target, but the bulk's estimated approach error exceeds {:.3} %",
+                        100.0 * bulk_threshold
+                    );
+                }
+                met = false;
+            }
             if met && level < d.max_levels {
                 // The estimate sees only what the levels refined: where the
                 // solved faces may still hide a touch of the exact surfaces,

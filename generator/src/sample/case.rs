@@ -554,16 +554,18 @@ impl Case {
             }
             if d.target_error.is_some() {
                 out.push(
-                    "degree 1 in 3D: adaptive refinement (target_error) can miss its target \
-                     unseen: it refines at the contact edges and leaves the bodies' bulk on \
-                     the case mesh, whose trilinear elements are too stiff, an error that no \
-                     difference between levels shows (the egg box of \
-                     tables/egg_box_on_flat.toml from [8, 8, 4] at 11.5 kPa: the approach \
-                     4.7 % short and the contact area 8 % short of degrees 2 and 3, the jump \
-                     2.4 % above, with a 1 % target met at an estimate of 0.63 %); with the \
-                     segment cells its third level does not converge (the second's result is \
-                     kept, flagged; docs/3d.md, \"Stop 73\", \"Stop 74\"); degree 2 for \
-                     adaptive runs"
+                    "degree 1 in 3D: adaptive refinement (target_error) needs far more \
+                     unknowns than degree 2: the trilinear elements of the case mesh are too \
+                     stiff, so the levels refine the bodies' bulk too until its estimated \
+                     approach error meets the target (the egg box of \
+                     tables/egg_box_on_flat.toml from [8, 8, 4] at 11.5 kPa: level 4 with \
+                     70 264 unknowns has the approach 0.8 % and the contact area 4.5 % short \
+                     of degrees 2 and 3 and the jump 0.6-1.2 % above them, its bulk estimate \
+                     1.3 %, and level 5 exceeds the default max_dofs: flagged, not met; \
+                     refined at the contact edges only, the levels met the target 2.4 % \
+                     off); with the segment cells its third level does not converge (the \
+                     second's result is kept, flagged; docs/3d.md, \"Stop 73\", \"Stop \
+                     74\", \"Stop 76\"); degree 2 for adaptive runs"
                         .to_string(),
                 );
             }

@@ -54,14 +54,20 @@ pub struct Body {
 /// allocator).
 const RETURNED_QUADRATURE_BYTES: usize = 64 << 20;
 
-/// The bulk quadrature of every element of `patch`: `bulk_points` Gauss points per direction,
-/// or [`default_bulk_points`] of each direction's degree.
-fn bulk_quadrature(patch: &ThbPatch, bulk_points: Option<usize>) -> Vec<ElementQuadrature> {
-    let nq: Vec<usize> = patch
+/// Gauss points per direction of `patch`'s bulk quadrature: `bulk_points`, or
+/// [`default_bulk_points`] of each direction's degree.
+fn bulk_points_per_direction(patch: &ThbPatch, bulk_points: Option<usize>) -> Vec<usize> {
+    patch
         .knots()
         .iter()
         .map(|k| bulk_points.unwrap_or_else(|| default_bulk_points(k.degree())))
-        .collect();
+        .collect()
+}
+
+/// The bulk quadrature of every element of `patch`: `bulk_points` Gauss points per direction,
+/// or [`default_bulk_points`] of each direction's degree.
+fn bulk_quadrature(patch: &ThbPatch, bulk_points: Option<usize>) -> Vec<ElementQuadrature> {
+    let nq = bulk_points_per_direction(patch, bulk_points);
     (0..patch.n_elements())
         .into_par_iter()
         .map(|e| patch.element_quadrature(e, &nq))
@@ -69,6 +75,18 @@ fn bulk_quadrature(patch: &ThbPatch, bulk_points: Option<usize>) -> Vec<ElementQ
 }
 
 impl Body {
+    /// The bulk quadrature of element `e`: the one kept, or one built for
+    /// the call while it is released ([`Model::release_caches`]).
+    pub fn element_quadrature(&self, e: usize) -> std::borrow::Cow<'_, ElementQuadrature> {
+        match self.quadrature.get(e) {
+            Some(q) => std::borrow::Cow::Borrowed(q),
+            None => {
+                let nq = bulk_points_per_direction(&self.patch, self.bulk_points);
+                std::borrow::Cow::Owned(self.patch.element_quadrature(e, &nq))
+            }
+        }
+    }
+
     /// Global node numbers of the control points on a face.
     pub fn face_nodes(&self, dir: usize, side: Side) -> Vec<usize> {
         self.patch

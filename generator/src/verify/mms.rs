@@ -98,13 +98,38 @@ pub fn solve_mms_with(
     dim: usize,
     family: FieldFamily,
 ) -> Result<(MmsErrors, SolveHistory)> {
+    let (model, hist) = solve_mms_family(kind, mesh, dim, family)?;
+    Ok((errors(&model, &exact_fields(kind, family)), hist))
+}
+
+/// The exact fields of `family` with the amplitudes of [`mms_setup`]`(kind)`.
+pub fn exact_fields(
+    kind: MmsKind,
+    family: FieldFamily,
+) -> impl Fn(&[f64; 3]) -> ExactFields + Send + Sync + 'static {
     let (m, au, at) = mms_setup(kind);
     let theta0 = m.reference_temperature;
-    let exact = move |x: &[f64; 3]| family(x, au, at, theta0);
+    move |x: &[f64; 3]| family(x, au, at, theta0)
+}
+
+/// The solved manufactured model of the annulus (2D, [`annulus_fields`]).
+pub fn solve_mms_model(kind: MmsKind, mesh: &NurbsPatch) -> Result<Model> {
+    Ok(solve_mms_family(kind, mesh, 2, annulus_fields)?.0)
+}
+
+/// Solves the manufactured problem of `family` on `mesh` in dimension `dim`.
+fn solve_mms_family(
+    kind: MmsKind,
+    mesh: &NurbsPatch,
+    dim: usize,
+    family: FieldFamily,
+) -> Result<(Model, SolveHistory)> {
+    let m = mms_setup(kind).0;
+    let theta0 = m.reference_temperature;
     let ms = m.clone();
+    let exact = exact_fields(kind, family);
     let sources = Arc::new(move |x: &[f64; 3]| -> (Vector3<f64>, f64) {
-        let f = family(x, au, at, theta0);
-        manufactured_sources(&ms, &f)
+        manufactured_sources(&ms, &exact(x))
     });
     let mut b = ModelBuilder::new(dim, Scales::new(1.0, &m));
     let body = b.add_body("domain", mesh, &m)?;
@@ -124,7 +149,7 @@ pub fn solve_mms_with(
     let mut model = b.build(coupling)?;
     let mut newton = Newton::new(NewtonSettings::default(), LoadStepping::default());
     let hist = newton.solve(&mut model)?;
-    Ok((errors(&model, &exact), hist))
+    Ok((model, hist))
 }
 
 /// The unit cube `[0, 1]³` with degree `p` and `n` (even) elements per

@@ -434,10 +434,10 @@ fn errors_name_the_key() {
 }
 
 /// Degree 1 in 3D is valid but known to stall under load with element-based
-/// contact points and, adaptive, to settle away from the converged jump
-/// unseen by the estimate, the bodies' bulk left on the case mesh
-/// (docs/3d.md, "Stop 67", "Stop 73", "Stop 74"): the case says so before
-/// it runs, with the cause; degree 2 and 2D say nothing.
+/// contact points and, adaptive, to need far more unknowns than degree 2,
+/// its levels refining the bodies' bulk too (docs/3d.md, "Stop 67", "Stop
+/// 73", "Stop 74", "Stop 76"): the case says so before it runs, with the
+/// cause; degree 2 and 2D say nothing.
 #[test]
 fn degree_1_in_3d_comes_with_its_cautions() {
     let cautions = |extra: &str, base: &str| {
