@@ -117,30 +117,40 @@ pub fn recovered_errors(model: &Model) -> RecoveredErrors {
         let m = &body.material;
         let (mu, lambda) = (m.shear_modulus(), m.lame_lambda());
         // The lumped projection: numerators (COMPONENTS per control point)
-        // and the basis functions' integrals.
+        // and the basis functions' integrals. Each element's share is
+        // computed in parallel and added in element order, so that the sums,
+        // and the marks that follow from them, do not depend on the threads'
+        // timing (a parallel fold's grouping does).
         let n_cp = body.patch.n_control_points();
-        let zero = || (vec![0.0; n_cp * COMPONENTS], vec![0.0; n_cp]);
-        let (num, den) = (0..n_el)
+        let shares: Vec<(Vec<usize>, Vec<f64>)> = (0..n_el)
             .into_par_iter()
-            .fold(zero, |(mut num, mut den), e| {
+            .map(|e| {
                 let q = quad(e);
+                let mut share = vec![0.0; q.conn.len() * (COMPONENTS + 1)];
                 for p in &q.points {
                     let g = gradients(dim, nf, &model.state, body.node_offset, &q.conn, &p.dr_dx);
-                    for (&c, &r) in q.conn.iter().zip(&p.r) {
+                    for (a, &r) in p.r.iter().enumerate() {
                         let w = p.weight * r;
-                        den[c] += w;
-                        for (n, v) in num[c * COMPONENTS..][..COMPONENTS].iter_mut().zip(g) {
+                        let s = &mut share[a * (COMPONENTS + 1)..][..COMPONENTS + 1];
+                        s[COMPONENTS] += w;
+                        for (n, v) in s.iter_mut().zip(g) {
                             *n += w * v;
                         }
                     }
                 }
-                (num, den)
+                (q.conn.clone(), share)
             })
-            .reduce(zero, |(mut a, mut b), (c, d)| {
-                a.iter_mut().zip(c).for_each(|(x, y)| *x += y);
-                b.iter_mut().zip(d).for_each(|(x, y)| *x += y);
-                (a, b)
-            });
+            .collect();
+        let (mut num, mut den) = (vec![0.0; n_cp * COMPONENTS], vec![0.0; n_cp]);
+        for (conn, share) in &shares {
+            for (&c, s) in conn.iter().zip(share.chunks(COMPONENTS + 1)) {
+                den[c] += s[COMPONENTS];
+                for (n, v) in num[c * COMPONENTS..][..COMPONENTS].iter_mut().zip(s) {
+                    *n += v;
+                }
+            }
+        }
+        drop(shares);
         let recovered: Vec<f64> = num
             .chunks(COMPONENTS)
             .zip(&den)
@@ -226,6 +236,24 @@ mod tests {
             }
         }
         (eu, et)
+    }
+
+    /// The indicators do not depend on the number of threads, bit for bit
+    /// (the adaptive marks follow from them).
+    #[test]
+    fn recovered_errors_do_not_depend_on_the_threads() {
+        let model = solve_mms_model(MmsKind::Thermoelastic, &annulus_mesh(1, 16).unwrap()).unwrap();
+        let on = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| recovered_errors(&model))
+        };
+        let one = on(1);
+        for threads in [2, 3, 5] {
+            assert_eq!(on(threads), one, "{threads} threads");
+        }
     }
 
     /// On the manufactured solutions of degree 1 (the annulus) the
