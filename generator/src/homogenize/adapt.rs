@@ -56,6 +56,12 @@ pub struct Marks {
 }
 
 impl Marks {
+    /// Adds the cells of `other` (a cell marked twice is refined once).
+    pub fn extend(&mut self, other: Marks) {
+        self.lower.extend(other.lower);
+        self.upper.extend(other.upper);
+    }
+
     fn of(&mut self, body: usize) -> &mut Vec<Cell> {
         if body == LOWER {
             &mut self.lower
@@ -277,14 +283,6 @@ pub fn bulk_marks(model: &Model, recovered: &RecoveredErrors) -> Marks {
         marks.of(b).push(model.bodies[b].patch.elements()[e].cell);
     }
     marks
-}
-
-impl Marks {
-    /// Adds the cells of `other` (a cell marked twice is refined once).
-    pub fn extend(&mut self, other: Marks) {
-        self.lower.extend(other.lower);
-        self.upper.extend(other.upper);
-    }
 }
 
 /// Points per direction and face element at which [`surface_misfit_marks`]

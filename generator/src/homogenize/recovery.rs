@@ -46,11 +46,6 @@ pub struct RecoveredErrors {
     pub mechanical: Vec<Vec<f64>>,
     /// `η_K,θ²` (scaled) per body and element.
     pub thermal: Vec<Vec<f64>>,
-    /// `∫ ε : C : ε dV` over the bodies, `ε = sym(Grad u)` (scaled): the
-    /// energy norm of the solution squared.
-    pub strain_energy: f64,
-    /// `∫ k |Grad θ|² dV` over the bodies (scaled).
-    pub conduction: f64,
 }
 
 impl RecoveredErrors {
@@ -156,12 +151,12 @@ pub fn recovered_errors(model: &Model) -> RecoveredErrors {
             .zip(&den)
             .flat_map(|(n, &d)| n.iter().map(move |v| if d > 0.0 { v / d } else { 0.0 }))
             .collect();
-        // Per element: η_u², η_θ², and the solution's energies.
-        let per_element: Vec<[f64; 4]> = (0..n_el)
+        // Per element: η_u² and η_θ².
+        let per_element: Vec<[f64; 2]> = (0..n_el)
             .into_par_iter()
             .map(|e| {
                 let q = quad(e);
-                let mut acc = [0.0; 4];
+                let mut acc = [0.0; 2];
                 for p in &q.points {
                     let g = gradients(dim, nf, &model.state, body.node_offset, &q.conn, &p.dr_dx);
                     let mut star = [0.0; COMPONENTS];
@@ -179,11 +174,8 @@ pub fn recovered_errors(model: &Model) -> RecoveredErrors {
                     let k = m.conductivity(theta).0.max(0.0);
                     let dh: Vec<f64> = (0..9).map(|i| star[i] - g[i]).collect();
                     let dg: f64 = (9..COMPONENTS).map(|i| (star[i] - g[i]).powi(2)).sum();
-                    let gg: f64 = g[9..].iter().map(|v| v * v).sum();
                     acc[0] += p.weight * strain_energy_density(&dh, mu, lambda);
                     acc[1] += p.weight * k * dg;
-                    acc[2] += p.weight * strain_energy_density(&g[..9], mu, lambda);
-                    acc[3] += p.weight * k * gg;
                 }
                 acc
             })
@@ -191,8 +183,6 @@ pub fn recovered_errors(model: &Model) -> RecoveredErrors {
         out.mechanical
             .push(per_element.iter().map(|a| a[0]).collect());
         out.thermal.push(per_element.iter().map(|a| a[1]).collect());
-        out.strain_energy += per_element.iter().map(|a| a[2]).sum::<f64>();
-        out.conduction += per_element.iter().map(|a| a[3]).sum::<f64>();
     }
     out
 }
