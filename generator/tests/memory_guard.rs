@@ -1,5 +1,6 @@
 //! The memory guard (`solve::resources::ensure_memory`): a factorization
-//! whose values or workspace the memory left cannot hold is refused with
+//! whose values or workspace, or an assembly whose pattern and scatter map,
+//! the memory left cannot hold is refused with
 //! `Error::OutOfMemory` before it is allocated (on Linux the allocation
 //! itself would succeed and the process be killed later), and that error
 //! ends a Newton solve at once instead of cutting the load step back.
@@ -84,6 +85,31 @@ fn a_factorization_beyond_the_memory_left_is_refused_before_it_is_allocated() {
     let mut x = rhs.clone();
     solver.solve_in_place(&mut x).unwrap();
     assert!(x.iter().all(|v| v.is_finite()));
+
+    // An assembly: refused where even its counted pattern does not fit (the
+    // dense blocks of a diverged iterate's contact couplings), built where the
+    // cheap bound on its pattern (the blocks' entries) does not fit but the
+    // counted one does (20 identical blocks of 500 unknowns among 10 000).
+    let blocks = || -> Vec<Vec<Option<usize>>> { vec![(0..500).map(Some).collect(); 20] };
+    let (n_eq, block_entries, dofs) = (10_000, 20 * 500 * 500, 20 * 500);
+    let counted = Assembly::bytes_for(block_entries, 500 * 500 + (n_eq - 500), dofs) as u64;
+    let bound = Assembly::bytes_for(block_entries, block_entries, dofs) as u64;
+    assert!(bound > 4 * counted, "{bound} against {counted}");
+    limit_above_resident(counted / 4);
+    match Assembly::try_new(n_eq, blocks()) {
+        Err(e @ Error::OutOfMemory { .. }) => {
+            let text = e.to_string();
+            println!("{text}");
+            assert!(text.contains("the assembly's pattern"), "{text}");
+            if let Error::OutOfMemory { needed, .. } = e {
+                assert_eq!(needed, counted as f64);
+            }
+        }
+        other => panic!("expected out of memory, got {:?}", other.map(|a| a.nnz())),
+    }
+    limit_above_resident(2 * counted);
+    let assembly = Assembly::try_new(n_eq, blocks()).expect("the counted pattern fits");
+    assert_eq!(assembly.nnz(), 500 * 500 + (n_eq - 500));
 
     // A micro-sample: the point fails with the memory's message, without
     // load-step cut-backs (a stalled stepping would say so).

@@ -102,42 +102,73 @@ impl Assembly {
     /// pattern is the union of all element blocks, plus the full diagonal (so that equations
     /// such as Lagrange multipliers with a zero diagonal keep a structural diagonal entry).
     ///
-    /// Panics if an equation is `>= n_eq` or the pattern has `u32::MAX` entries or more.
+    /// Panics if an equation is `>= n_eq` or the pattern has `u32::MAX` entries or more
+    /// ([`Assembly::try_new`] returns an error instead, and checks the memory first).
     #[track_caller]
     pub fn new(n_eq: usize, element_eqs: Vec<Vec<Option<usize>>>) -> Self {
-        let n_elements = element_eqs.len();
-        let mut dof_ptr = Vec::with_capacity(n_elements + 1);
-        dof_ptr.push(0);
-        let mut dof_eq = Vec::with_capacity(element_eqs.iter().map(Vec::len).sum());
-        for (e, eqs) in element_eqs.iter().enumerate() {
-            for &eq in eqs {
-                match eq {
-                    Some(i) => {
-                        assert!(
-                            i < n_eq,
-                            "element {e}: equation {i} out of range (n_eq = {n_eq})"
-                        );
-                        dof_eq.push(i);
-                    }
-                    None => dof_eq.push(DROPPED),
-                }
-            }
-            dof_ptr.push(dof_eq.len());
-        }
-        drop(element_eqs);
+        let (dof_ptr, dof_eq) = flatten(n_eq, element_eqs);
+        Self::build(n_eq, dof_ptr, dof_eq).unwrap_or_else(|e| panic!("{e}"))
+    }
 
+    /// [`Assembly::new`], refused with [`Error::OutOfMemory`] where the memory left
+    /// ([`crate::solve::resources::ensure_memory`]) cannot hold its pattern, scatter map and
+    /// the values of one matrix ([`Assembly::bytes_for`]), and with an error (not a panic) for
+    /// a pattern of `u32::MAX` entries or more. The pattern's entries are bounded first by the
+    /// element blocks' (one pass over their lengths), and counted where that bound does not fit.
+    /// A diverged iterate whose contact couplings span far-apart nodes makes dense blocks of
+    /// hundreds of unknowns, and an assembly of them that the factorization's own guard comes
+    /// too late for.
+    ///
+    /// Panics if an equation is `>= n_eq`.
+    #[track_caller]
+    pub fn try_new(n_eq: usize, element_eqs: Vec<Vec<Option<usize>>>) -> Result<Self> {
+        const WHAT: &str = "the assembly's pattern, scatter map and values";
+        let blocks: usize = element_eqs.iter().map(|e| e.len() * e.len()).sum();
+        let (dof_ptr, dof_eq) = flatten(n_eq, element_eqs);
+        let bound = blocks.min(n_eq.saturating_mul(n_eq));
+        if crate::solve::resources::ensure_memory(
+            WHAT,
+            Self::bytes_for(blocks, bound, dof_eq.len()),
+        )
+        .is_err()
+        {
+            let entries = count_pattern(n_eq, &dof_ptr, &dof_eq);
+            crate::solve::resources::ensure_memory(
+                WHAT,
+                Self::bytes_for(blocks, entries, dof_eq.len()),
+            )?;
+        }
+        Self::build(n_eq, dof_ptr, dof_eq)
+    }
+
+    /// Bytes an assembly of `blocks` element-block entries (`Σ n_e²`), `entries` pattern
+    /// entries and `dofs` local dofs (`Σ n_e`) takes to build and use, at most: the pattern's
+    /// row indices (built per chunk, then copied), the scatter map (a 32-bit position per
+    /// block entry where it cannot use runs), the element-to-equation maps and one matrix's
+    /// values.
+    pub fn bytes_for(blocks: usize, entries: usize, dofs: usize) -> usize {
+        let word = std::mem::size_of::<usize>();
+        entries
+            .saturating_mul(3 * word)
+            .saturating_add(blocks.saturating_mul(std::mem::size_of::<u32>()))
+            .saturating_add(dofs.saturating_mul(2 * word))
+    }
+
+    /// The assembly of the flattened element equations ([`flatten`]).
+    fn build(n_eq: usize, dof_ptr: Vec<usize>, dof_eq: Vec<usize>) -> Result<Self> {
         let (eq_elem_ptr, eq_elems) = equation_to_elements(n_eq, &dof_ptr, &dof_eq);
         let pattern = build_pattern(n_eq, &dof_ptr, &dof_eq, &eq_elem_ptr, &eq_elems);
-        assert!(
-            pattern.row_idx().len() < DROPPED_ENTRY as usize,
-            "assembly pattern too large for the 32-bit scatter map ({} entries)",
-            pattern.row_idx().len()
-        );
+        if pattern.row_idx().len() >= DROPPED_ENTRY as usize {
+            return Err(Error::LinearSolver(format!(
+                "assembly pattern too large for the 32-bit scatter map ({} entries)",
+                pattern.row_idx().len()
+            )));
+        }
         let (entry_ptr, entry_pos) = build_scatter_map(&pattern, &dof_ptr, &dof_eq);
         let group_ptr = element_groups(&dof_ptr);
         let (color_ptr, color_groups) =
             color_groups(&group_ptr, &dof_ptr, &dof_eq, &eq_elem_ptr, &eq_elems);
-        Self {
+        Ok(Self {
             n_eq,
             pattern: Arc::new(pattern),
             dof_ptr,
@@ -147,7 +178,7 @@ impl Assembly {
             group_ptr,
             color_ptr,
             color_groups,
-        }
+        })
     }
 
     /// Whether this assembly is the one [`Assembly::new`] builds from
@@ -422,27 +453,23 @@ fn build_pattern(
     eq_elem_ptr: &[usize],
     eq_elems: &[usize],
 ) -> SymbolicSparseColMat<usize> {
-    const CHUNK: usize = 2048;
-    let chunks: Vec<(Vec<usize>, Vec<usize>)> = (0..n_eq.div_ceil(CHUNK))
+    let chunks: Vec<(Vec<usize>, Vec<usize>)> = (0..n_eq.div_ceil(PATTERN_CHUNK))
         .into_par_iter()
         .map_init(
             || vec![usize::MAX; n_eq],
             |marker, c| {
-                let columns = c * CHUNK..((c + 1) * CHUNK).min(n_eq);
+                let columns = c * PATTERN_CHUNK..((c + 1) * PATTERN_CHUNK).min(n_eq);
                 let mut col_len = Vec::with_capacity(columns.len());
                 let mut rows = Vec::new();
                 for j in columns {
                     let start = rows.len();
-                    marker[j] = j;
-                    rows.push(j);
-                    for &e in &eq_elems[eq_elem_ptr[j]..eq_elem_ptr[j + 1]] {
-                        for &i in &dof_eq[dof_ptr[e]..dof_ptr[e + 1]] {
-                            if i != DROPPED && marker[i] != j {
-                                marker[i] = j;
-                                rows.push(i);
-                            }
-                        }
-                    }
+                    push_column_rows(
+                        j,
+                        marker,
+                        (dof_ptr, dof_eq),
+                        (eq_elem_ptr, eq_elems),
+                        &mut rows,
+                    );
                     rows[start..].sort_unstable();
                     col_len.push(rows.len() - start);
                 }
@@ -460,6 +487,86 @@ fn build_pattern(
         row_idx.extend_from_slice(&rows);
     }
     SymbolicSparseColMat::new_checked(n_eq, n_eq, col_ptr, None, row_idx)
+}
+
+/// Columns per parallel task of [`build_pattern`] and [`count_pattern`].
+const PATTERN_CHUNK: usize = 2048;
+
+/// Pushes onto `rows` the rows of column `j` of the pattern (unsorted): `j` and every
+/// equation of every element containing `j`; `marker[i] == j` marks those pushed.
+fn push_column_rows(
+    j: usize,
+    marker: &mut [usize],
+    (dof_ptr, dof_eq): (&[usize], &[usize]),
+    (eq_elem_ptr, eq_elems): (&[usize], &[usize]),
+    rows: &mut Vec<usize>,
+) {
+    marker[j] = j;
+    rows.push(j);
+    for &e in &eq_elems[eq_elem_ptr[j]..eq_elem_ptr[j + 1]] {
+        for &i in &dof_eq[dof_ptr[e]..dof_ptr[e + 1]] {
+            if i != DROPPED && marker[i] != j {
+                marker[i] = j;
+                rows.push(i);
+            }
+        }
+    }
+}
+
+/// The number of entries of [`build_pattern`]'s pattern, counted column by column without
+/// keeping them.
+fn count_pattern(n_eq: usize, dof_ptr: &[usize], dof_eq: &[usize]) -> usize {
+    let (eq_elem_ptr, eq_elems) = equation_to_elements(n_eq, dof_ptr, dof_eq);
+    (0..n_eq.div_ceil(PATTERN_CHUNK))
+        .into_par_iter()
+        .map_init(
+            || (vec![usize::MAX; n_eq], Vec::new()),
+            |(marker, rows), c| {
+                let columns = c * PATTERN_CHUNK..((c + 1) * PATTERN_CHUNK).min(n_eq);
+                let mut count = 0;
+                for j in columns {
+                    rows.clear();
+                    push_column_rows(
+                        j,
+                        marker,
+                        (dof_ptr, dof_eq),
+                        (&eq_elem_ptr, &eq_elems),
+                        rows,
+                    );
+                    count += rows.len();
+                }
+                count
+            },
+        )
+        .sum()
+}
+
+/// The element equations in one array (`dof_eq`, [`DROPPED`] for `None`) with each
+/// element's start (`dof_ptr`).
+///
+/// Panics if an equation is `>= n_eq`.
+#[track_caller]
+fn flatten(n_eq: usize, element_eqs: Vec<Vec<Option<usize>>>) -> (Vec<usize>, Vec<usize>) {
+    let n_elements = element_eqs.len();
+    let mut dof_ptr = Vec::with_capacity(n_elements + 1);
+    dof_ptr.push(0);
+    let mut dof_eq = Vec::with_capacity(element_eqs.iter().map(Vec::len).sum());
+    for (e, eqs) in element_eqs.iter().enumerate() {
+        for &eq in eqs {
+            match eq {
+                Some(i) => {
+                    assert!(
+                        i < n_eq,
+                        "element {e}: equation {i} out of range (n_eq = {n_eq})"
+                    );
+                    dof_eq.push(i);
+                }
+                None => dof_eq.push(DROPPED),
+            }
+        }
+        dof_ptr.push(dof_eq.len());
+    }
+    (dof_ptr, dof_eq)
 }
 
 /// Where every entry (column-major) of every element block goes in the CSC values: runs of

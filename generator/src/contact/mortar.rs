@@ -1395,6 +1395,20 @@ impl ContactInterface {
         changed
     }
 
+    /// Empties the coupling band and the coupled nodes, which the next preparation widens to
+    /// what the state then needs ([`ContactInterface::update_band`],
+    /// [`ContactInterface::cover_active`]); `true` if they held anything. After a load step
+    /// is cut back: its failed iterates may have projected far off, and the band only grows
+    /// (a node's contact block is dense in the band, so its entries grow with its square: from
+    /// rest, the degree-1 egg box's fifth level reached 42 M entries against 21 M from its
+    /// carried-over state at the same load; docs/3d.md, "Stop 77").
+    pub fn reset_coupling(&mut self) -> bool {
+        let held = self.coupled.iter().any(|&c| c) || self.band.iter().any(|b| !b.is_empty());
+        self.band.iter_mut().for_each(BTreeSet::clear);
+        self.coupled.fill(false);
+        held
+    }
+
     /// The slave nodes the pattern couples ([`ContactInterface::cover_active`]).
     pub fn coverage(&self) -> &[bool] {
         &self.coupled

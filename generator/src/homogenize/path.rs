@@ -76,6 +76,11 @@ pub struct PointResult {
     /// `"max_levels"`, `"max_dofs: level L would have N unknowns"` or
     /// `"level L failed: reason"` (then the jump and estimate are those of
     /// the last solved level; a failed first level leaves no estimate).
+    /// Where the last level's estimate met the target but an indicator kept
+    /// the refinement going (the bulk's approach error, a face that may hide
+    /// a touch), the reason follows in parentheses:
+    /// `"max_levels (level 4's jump estimate met the target; the bulk's
+    /// estimated approach error 1.291 % exceeds 1 %)"`.
     /// `None` on a fixed mesh.
     pub refinement_stop: Option<String>,
     /// Unknowns of the mesh of `jump`: `(d + 1)` per control point.
@@ -619,6 +624,8 @@ impl<'a> PathSolver<'a> {
         let mut estimate: Option<Vec<f64>> = None;
         let mut met = false;
         let mut stop = "max_levels".to_string();
+        // Why the last level whose jump estimate met the target went on.
+        let mut withheld: Option<String> = None;
         // The estimate's history starts where every contact edge is fitted
         // (`regime`: the first difference between two fitted levels; the
         // change onto the first fitted level is one of regime, not of
@@ -883,7 +890,13 @@ impl<'a> PathSolver<'a> {
             // while the bulk's estimated approach error exceeds its share of
             // the target, the refinement goes on, marking the bulk too.
             bulk = bulk_of(&next.model, &best);
-            if met && bulk.as_ref().is_some_and(|b| b.1 > bulk_threshold) {
+            withheld = None;
+            if met && let Some((_, error)) = bulk.as_ref().filter(|b| b.1 > bulk_threshold) {
+                withheld = Some(format!(
+                    "level {level}'s jump estimate met the target; the bulk's estimated approach error {:.3} % exceeds {} %",
+                    100.0 * error,
+                    100.0 * bulk_threshold
+                ));
                 if trace {
                     eprintln!(
                         "adapt {pressure:e} Pa: level {level} meets the target, but the bulk's estimated approach error exceeds {:.3} %",
@@ -905,6 +918,10 @@ impl<'a> PathSolver<'a> {
                             m.len()
                         );
                     }
+                    withheld = Some(format!(
+                        "level {level}'s jump estimate met the target; {} slave face elements may hide a touch of the exact surfaces",
+                        m.len()
+                    ));
                     met = false;
                     hidden = Some(m);
                 }
@@ -914,7 +931,10 @@ impl<'a> PathSolver<'a> {
                 let stop = if met {
                     Some("target met".into())
                 } else if level == d.max_levels {
-                    Some("max_levels".into())
+                    Some(match &withheld {
+                        Some(w) => format!("max_levels ({w})"),
+                        None => "max_levels".into(),
+                    })
                 } else {
                     None
                 };
@@ -960,6 +980,9 @@ impl<'a> PathSolver<'a> {
             for r in best.iter_mut() {
                 r.interface.approach += touch_shift;
             }
+        }
+        if let Some(w) = withheld.filter(|_| !met) {
+            stop = format!("{stop} ({w})");
         }
         for (i, r) in best.iter_mut().enumerate() {
             r.jump_error = estimate.as_ref().map(|e| e[i]);

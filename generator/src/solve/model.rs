@@ -963,10 +963,12 @@ impl Model {
         self.assembly_builds
     }
 
-    /// Builds the assembly if it is out of date ([`Model::mark_assembly_stale`]).
-    fn ensure_assembly(&mut self) {
+    /// Builds the assembly if it is out of date ([`Model::mark_assembly_stale`]); an error
+    /// where the memory left cannot hold it ([`Assembly::try_new`]; the assembly stays out of
+    /// date).
+    fn ensure_assembly(&mut self) -> Result<()> {
         if !self.assembly_stale {
-            return;
+            return Ok(());
         }
         self.assembly_stale = false;
         self.restore_quadrature();
@@ -1007,10 +1009,24 @@ impl Model {
             .find_map(|c| c.take_if(|(_, a, _)| a.describes(n_eq, &element_eqs)));
         self.assembly = match found {
             Some((_, a, _)) => a,
-            None => {
-                self.assembly_builds += 1;
-                Assembly::new(n_eq, element_eqs)
-            }
+            None => match Assembly::try_new(n_eq, element_eqs) {
+                Ok(built) => {
+                    self.assembly_builds += 1;
+                    built
+                }
+                Err(e) => {
+                    // Out of date still, the assemblies built so far kept.
+                    let [current, kept] = candidates;
+                    if let Some((coupling, assembly, coverage)) = current {
+                        self.assembly = assembly;
+                        self.assembly_coupling = coupling;
+                        self.assembly_coverage = coverage;
+                    }
+                    self.kept_assembly = kept;
+                    self.assembly_stale = true;
+                    return Err(e);
+                }
+            },
         };
         self.assembly_coupling = self.coupling;
         self.assembly_coverage = self
@@ -1022,6 +1038,7 @@ impl Model {
             .flatten()
             .find(|(c, _, _)| *c != self.coupling);
         self.pattern_version += 1;
+        Ok(())
     }
 
     /// The same problem with another coupling, keeping the current state
@@ -1598,8 +1615,7 @@ impl NonlinearProblem for Model {
                 self.mark_assembly_stale();
             }
         }
-        self.ensure_assembly();
-        Ok(())
+        self.ensure_assembly()
     }
 
     fn set_load(&mut self, load_factor: f64) {
@@ -1619,7 +1635,7 @@ impl NonlinearProblem for Model {
     }
 
     fn assemble(&mut self, mut values: Option<&mut [f64]>, residual: &mut [f64]) -> Result<()> {
-        self.ensure_assembly();
+        self.ensure_assembly()?;
         self.restore_quadrature();
         self.assemble_all(values.as_deref_mut(), residual)?;
         if let Some(v) = values {
@@ -1678,6 +1694,17 @@ impl NonlinearProblem for Model {
             let ns = c.n_slave();
             c.lambda_n.copy_from_slice(&saved[n..n + ns]);
             c.lambda_t.copy_from_slice(&saved[n + ns..n + 2 * ns]);
+        }
+    }
+
+    /// The contact's coupling band and coupled nodes as the restored state needs them
+    /// ([`ContactInterface::reset_coupling`]): a failed step's iterates may have projected
+    /// far off and widened them for good.
+    fn after_cutback(&mut self) {
+        if let Some(c) = self.contact.as_mut()
+            && c.reset_coupling()
+        {
+            self.mark_assembly_stale();
         }
     }
 

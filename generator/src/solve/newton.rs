@@ -89,6 +89,10 @@ pub trait NonlinearProblem: Send {
     fn save(&self) -> Vec<f64>;
     /// Restores a state from [`NonlinearProblem::save`].
     fn restore(&mut self, state: &[f64]);
+    /// Called after a failed load step's state is restored ([`NonlinearProblem::restore`]):
+    /// drops what the failed iterates added to the problem that the restored state does not
+    /// need (the contact's coupling band).
+    fn after_cutback(&mut self) {}
     /// Frees what the problem rebuilds by itself at its next assembly, while
     /// a factorization of at least [`FACTOR_BYTES_RELEASING_CACHES`] holds the
     /// memory (the 3D models' bulk quadrature).
@@ -1039,6 +1043,7 @@ impl Newton {
                     }
                     hist.cutbacks += 1;
                     p.restore(&saved);
+                    p.after_cutback();
                     p.set_load(lf);
                     dl *= self.stepping.cutback;
                     if dl < self.stepping.min_step * span {

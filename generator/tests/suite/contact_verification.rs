@@ -560,8 +560,9 @@ fn long_adaptive_egg_box_high_contact_against_boundary_elements() {
 /// 5 (0.74106 μm; measured −0.83 %), its contact fraction within 6 % of
 /// 0.0650 (−4.5 %) and its jump within 1.5 % of degree 3's level 4
 /// (20.165 K; +0.62 %); the bulk's estimated approach error (1.29 %) asks
-/// for a fifth level past the default `max_dofs`, so the point is flagged
-/// (docs/adaptivity.md, "The bulk-resolution indicator").
+/// for a fifth level past the default `max_dofs`, so the point is flagged,
+/// and its `refinement_stop` names the bulk (docs/adaptivity.md, "The
+/// bulk-resolution indicator").
 #[test]
 fn long_degree_one_egg_box_levels_refine_the_bulk() {
     use tcgen::homogenize::path::solve_case;
@@ -628,4 +629,14 @@ fn long_degree_one_egg_box_levels_refine_the_bulk() {
     ];
     assert_pass(&checks);
     assert_eq!(r.error_target_met, Some(false), "{:?}", r.refinement_stop);
+    // The reason names the limit and the indicator that kept the refinement
+    // going past a level whose jump estimate met the target.
+    let stop = r.refinement_stop.as_deref().unwrap_or_default();
+    assert!(
+        stop.starts_with("max_dofs: level 5 would have ")
+            && stop.contains(
+                "(level 4's jump estimate met the target; the bulk's estimated approach error"
+            ),
+        "{stop}"
+    );
 }
