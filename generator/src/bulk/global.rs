@@ -115,7 +115,7 @@ impl Assembly {
     /// the values of one matrix ([`Assembly::bytes_for`]), and with an error (not a panic) for
     /// a pattern of `u32::MAX` entries or more. The pattern's entries are bounded first by the
     /// element blocks' (one pass over their lengths), and counted where that bound does not fit.
-    /// A diverged iterate whose contact couplings span far-apart nodes makes dense blocks of
+    /// A diverged iterate whose contact couplings span far-apart nodes can make dense blocks of
     /// hundreds of unknowns, and an assembly of them that the factorization's own guard comes
     /// too late for.
     ///
@@ -125,7 +125,8 @@ impl Assembly {
         const WHAT: &str = "the assembly's pattern, scatter map and values";
         let blocks: usize = element_eqs.iter().map(|e| e.len() * e.len()).sum();
         let (dof_ptr, dof_eq) = flatten(n_eq, element_eqs);
-        let bound = blocks.min(n_eq.saturating_mul(n_eq));
+        // Every entry is a block's or the diagonal's.
+        let bound = blocks.saturating_add(n_eq).min(n_eq.saturating_mul(n_eq));
         if crate::solve::resources::ensure_memory(
             WHAT,
             Self::bytes_for(blocks, bound, dof_eq.len()),

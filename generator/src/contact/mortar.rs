@@ -1400,7 +1400,7 @@ impl ContactInterface {
     /// [`ContactInterface::cover_active`]); `true` if they held anything. After a load step
     /// is cut back: its failed iterates may have projected far off, and the band only grows
     /// (a node's contact block is dense in the band, so its entries grow with its square: from
-    /// rest, the degree-1 egg box's fifth level reached 42 M entries against 21 M from its
+    /// rest, the degree-1 egg box's fifth level reached 42–46 M entries against 21 M from its
     /// carried-over state at the same load; docs/3d.md, "Stop 77").
     pub fn reset_coupling(&mut self) -> bool {
         let held = self.coupled.iter().any(|&c| c) || self.band.iter().any(|b| !b.is_empty());
