@@ -897,12 +897,6 @@ impl<'a> PathSolver<'a> {
                     100.0 * error,
                     100.0 * bulk_threshold
                 ));
-                if trace {
-                    eprintln!(
-                        "adapt {pressure:e} Pa: level {level} meets the target, but the bulk's estimated approach error exceeds {:.3} %",
-                        100.0 * bulk_threshold
-                    );
-                }
                 met = false;
             }
             if met && level < d.max_levels {
@@ -912,12 +906,6 @@ impl<'a> PathSolver<'a> {
                 // solved state by `fitted` above).
                 let m = surface_misfit_marks(&next.model, slave, &heights, g0, misfit_bound)?;
                 if !m.is_empty() {
-                    if trace {
-                        eprintln!(
-                            "adapt {pressure:e} Pa: level {level} meets the target, but {} slave face elements may hide a touch of the exact surfaces",
-                            m.len()
-                        );
-                    }
                     withheld = Some(format!(
                         "level {level}'s jump estimate met the target; {} slave face elements may hide a touch of the exact surfaces",
                         m.len()
@@ -925,6 +913,9 @@ impl<'a> PathSolver<'a> {
                     met = false;
                     hidden = Some(m);
                 }
+            }
+            if trace && let Some(w) = &withheld {
+                eprintln!("adapt {pressure:e} Pa: {w}");
             }
             self.report_level(|| {
                 let jump = (best[0].jump, est[0] / best[0].jump.abs());

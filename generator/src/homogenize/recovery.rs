@@ -172,7 +172,7 @@ pub fn recovered_errors(model: &Model) -> RecoveredErrors {
                         .map(|a| p.r[a] * model.state[(q.conn[a] + body.node_offset) * nf + dim])
                         .sum::<f64>();
                     let k = m.conductivity(theta).0.max(0.0);
-                    let dh: Vec<f64> = (0..9).map(|i| star[i] - g[i]).collect();
+                    let dh: [f64; 9] = std::array::from_fn(|i| star[i] - g[i]);
                     let dg: f64 = (9..COMPONENTS).map(|i| (star[i] - g[i]).powi(2)).sum();
                     acc[0] += p.weight * strain_energy_density(&dh, mu, lambda);
                     acc[1] += p.weight * k * dg;
@@ -212,7 +212,7 @@ mod tests {
                         .map(|a| p.r[a] * model.state[(q.conn[a] + body.node_offset) * nf + dim])
                         .sum::<f64>();
                     let k = body.material.conductivity(theta).0;
-                    let mut dh = vec![0.0; 9];
+                    let mut dh = [0.0; 9];
                     let mut dg = 0.0;
                     for i in 0..dim {
                         for j in 0..dim {
