@@ -140,6 +140,10 @@ pub struct PathSolver<'a> {
     /// The fields of the last solved point, when capturing.
     fields: Option<Fields>,
     history: Vec<f64>,
+    /// Per flux of the last self-consistent solve on an adaptive level, the
+    /// bound (K) on its output's distance to the fixed point where its
+    /// iterations ended at a step of `F` across it ([`Secant::step_bound`]).
+    step_bounds: Vec<Option<f64>>,
     /// The secant slope `F'` of the last self-consistency iterations (a first
     /// guess of the next pressure's: [`Secant`]).
     self_consistency_slope: Option<f64>,
@@ -283,6 +287,7 @@ impl<'a> PathSolver<'a> {
             fields: None,
             history: Vec::new(),
             self_consistency_slope: None,
+            step_bounds: Vec::new(),
             plain_phase: None,
             phase_cost: [(0.0, 0); 3],
             level_observer: None,
@@ -952,15 +957,18 @@ impl<'a> PathSolver<'a> {
                 self.self_consistency_slope = f.self_consistency_slope;
             }
             let tolerance = case.homogenization.tolerance;
+            let bounds = fine.as_ref().unwrap_or(&*self).step_bounds.clone();
             for (i, (r, p)) in best.iter().zip(&plain).enumerate() {
                 if let Some(e) = estimate.as_mut()
                     && p.jump != 0.0
                     && r.converged
                 {
                     // The discretization's part, and the bound on the
-                    // fixed point's residual at which the iterations stopped.
-                    let residual =
-                        (tolerance * r.jump.abs()).max(SELF_CONSISTENCY_ESTIMATE_SHARE * e[i]);
+                    // fixed point's residual at which the iterations stopped
+                    // (at a step of `F`, the step's).
+                    let residual = (tolerance * r.jump.abs())
+                        .max(SELF_CONSISTENCY_ESTIMATE_SHARE * e[i])
+                        .max(bounds.get(i).copied().flatten().unwrap_or(0.0));
                     e[i] = e[i] * (r.jump / p.jump).abs() + residual;
                 }
             }
@@ -980,6 +988,15 @@ impl<'a> PathSolver<'a> {
             r.error_target_met = Some(met);
             r.refinement_stop = Some(stop.clone());
             r.newton_iterations = iterations;
+            // The plain jump met the target; the self-consistent one's
+            // estimate, with its fixed point's bound, may not.
+            if let Some(e) = r.jump_error.filter(|e| met && *e > target * r.jump.abs()) {
+                r.error_target_met = Some(false);
+                r.refinement_stop = Some(format!(
+                    "the plain jump's estimate met the target; the self-consistent jump's is {:.3} %",
+                    100.0 * e / r.jump.abs()
+                ));
+            }
         }
         Ok(best)
     }
@@ -1057,6 +1074,7 @@ impl<'a> PathSolver<'a> {
         let base = self.model.save();
         let mut out = Vec::with_capacity(fluxes.len());
         self.fields = None;
+        self.step_bounds = vec![None; fluxes.len()];
         for (i, &flux) in fluxes.iter().enumerate() {
             let scale = |t: f64| theta_c + flux * (t - theta_c);
             let estimate_floor = estimates.map_or(0.0, |e| SELF_CONSISTENCY_ESTIMATE_SHARE * e[i]);
@@ -1093,6 +1111,12 @@ impl<'a> PathSolver<'a> {
                 // `F` of its input.
                 let mut predictor = (case.homogenization.acceleration == Acceleration::Secant)
                     .then_some(PREDICTOR_INCREMENTS);
+                // Whether the secant's previous pair is an evaluation of `F`
+                // (the first, `(0, F(0))`, is; a predictor's is not).
+                let mut previous_exact = true;
+                // The last two evaluations where `F` stepped across the
+                // fixed point (for the failure's reason on a fixed mesh).
+                let mut stepped: Option<[f64; 4]> = None;
                 while k < case.homogenization.max_iterations {
                     k += 1;
                     // Slave properties at θ̄ = θ̄c + ϑ̄c (first-order corrector), master at θ̄c.
@@ -1188,6 +1212,26 @@ impl<'a> PathSolver<'a> {
                                 converged = true;
                                 break;
                             }
+                            // `F` steps across the fixed point between the
+                            // last two inputs (the nodal active set's
+                            // conducting supports, docs/adaptivity.md): no
+                            // further iteration comes closer than the step.
+                            // An adaptive level stops here, the bound added to
+                            // its estimate; a fixed mesh goes on (an up-step
+                            // has fixed points on its sides).
+                            let exact = predictor.is_none() && previous_exact;
+                            if let Some(bound) =
+                                secant.step_bound(input, new_jump).filter(|_| exact)
+                            {
+                                let (x0, f0) = secant.previous;
+                                stepped = Some([x0, f0, input, new_jump]);
+                                if estimates.is_some() {
+                                    self.step_bounds[i] = Some(bound);
+                                    converged = true;
+                                    break;
+                                }
+                            }
+                            previous_exact = predictor.is_none();
                             predictor = None;
                             input = secant.next(input, new_jump);
                         }
@@ -1209,8 +1253,13 @@ impl<'a> PathSolver<'a> {
                     self.self_consistency_slope = secant.slope.or(self.self_consistency_slope);
                 }
                 if !converged && failure.is_none() {
+                    let step = stepped.map_or(String::new(), |[x0, f0, x1, f1]| {
+                        format!(
+                            " (F(ϑ) stepped across the fixed point: F({x0:.6}) = {f0:.6} K, F({x1:.6}) = {f1:.6} K; an adaptive run, `target_error`, reports the jump with the step in its estimate)"
+                        )
+                    });
                     failure = Some(format!(
-                        "self-consistency did not converge in {} iterations",
+                        "self-consistency did not converge in {} iterations{step}",
                         case.homogenization.max_iterations
                     ));
                 }
@@ -1737,6 +1786,25 @@ impl Secant {
         (slope.is_finite() && slope.abs() <= Self::MAX_SLOPE).then_some(slope)
     }
 
+    /// Where `F` steps across its fixed point between the previous input and
+    /// `input`: the fixed point's residual `F(ϑ) − ϑ` changes sign between
+    /// them, and the chord is steeper than a contraction's
+    /// (`|F'| >` [`Self::MAX_SLOPE`], or `F` changed at the same input). Then
+    /// the fixed point (or, where `F` jumps over the diagonal, the step that
+    /// takes its place) lies between the two inputs, and
+    /// `max(|F(ϑ) − ϑ_prev|, |F(ϑ) − ϑ|)` bounds the output's distance to it:
+    /// the bound returned. The constraint model's nodal supports make such
+    /// steps (a node entering the active set adds its support to the
+    /// conducting area): 0.3–0.4 % of the jump on 3D levels
+    /// (docs/adaptivity.md). A smooth contraction never gives one.
+    fn step_bound(&self, input: f64, output: f64) -> Option<f64> {
+        let (x0, f0) = self.previous;
+        let straddles = (f0 - x0) * (output - input) < 0.0;
+        // A chord at the same input is not finite: steep as well.
+        let steep = !((output - f0) / (input - x0)).abs().le(&Self::MAX_SLOPE);
+        (straddles && steep).then(|| (output - x0).abs().max((output - input).abs()))
+    }
+
     /// The input after `output = F(input)`.
     fn next(&mut self, input: f64, output: f64) -> f64 {
         let chord = self.chord_slope(input, output);
@@ -1780,16 +1848,84 @@ mod tests {
 
     /// Iterates `F` from `F(0)` with `secant` until `|F(ϑ) − ϑ| ≤ tol |F(ϑ)|`;
     /// returns the iterations (phases run after the first) and the last output.
-    fn iterate(f: impl Fn(f64) -> f64, mut secant: Secant, tol: f64) -> (usize, f64) {
+    fn iterate(f: impl Fn(f64) -> f64, secant: Secant, tol: f64) -> (usize, f64) {
+        let (k, output, _) = iterate_to_step(f, secant, tol, false).expect("no convergence");
+        (k, output)
+    }
+
+    /// [`iterate`], also ending at a step of `F` across the fixed point where
+    /// `steps` is set (as an adaptive level's iterations do; then with the
+    /// step's bound). `None` where 50 iterations do not end.
+    fn iterate_to_step(
+        f: impl Fn(f64) -> f64,
+        mut secant: Secant,
+        tol: f64,
+        steps: bool,
+    ) -> Option<(usize, f64, Option<f64>)> {
         let mut input = secant.first_input();
         for k in 1..=50 {
             let output = f(input);
             if (output - input).abs() <= tol * output.abs() {
-                return (k, output);
+                return Some((k, output, None));
+            }
+            if let Some(bound) = secant.step_bound(input, output).filter(|_| steps) {
+                return Some((k, output, Some(bound)));
             }
             input = secant.next(input, output);
         }
-        panic!("no convergence");
+        None
+    }
+
+    /// A map that steps down across its fixed point (no fixed point: the
+    /// nodal supports' stair-stepping can make one, docs/adaptivity.md) sends
+    /// the secant iterations into a cycle of two; ending at the step, they
+    /// stop within a few iterations with a bound on the output's distance to
+    /// the step. Smooth contractions never see a step, and an up-step's
+    /// bound covers a fixed point.
+    #[test]
+    fn a_step_of_f_across_the_fixed_point_ends_the_iterations_with_its_bound() {
+        for at in [20.12, 20.14, 20.16, 20.18] {
+            // Below the step the fixed point would be 22 / 1.09 = 20.183,
+            // above it 21.92 / 1.09 = 20.110: both on the step's other side.
+            let stepped = |x: f64| 22.0 - 0.09 * x - if x > at { 0.08 } else { 0.0 };
+            for hint in [Some(-0.09), None] {
+                let start = Secant::new(Acceleration::Secant, stepped(0.0), hint);
+                assert!(iterate_to_step(stepped, start, 1e-6, false).is_none());
+                let (k, output, bound) =
+                    iterate_to_step(stepped, start, 1e-6, true).expect("ends at the step");
+                let bound = bound.expect("a step");
+                assert!(k <= 4, "step at {at}, hint {hint:?}: {k} iterations");
+                assert!(
+                    (output - at).abs() <= bound && bound <= 0.2,
+                    "step at {at}: output {output}, bound {bound}"
+                );
+            }
+        }
+        // An up-step has a fixed point on one of its sides (here both).
+        let up = |x: f64| 22.0 - 0.09 * x + if x > 20.2 { 0.08 } else { 0.0 };
+        let fixed = [22.0 / 1.09, 22.08 / 1.09];
+        let start = Secant::new(Acceleration::Secant, up(0.0), Some(-0.09));
+        let (_, output, bound) = iterate_to_step(up, start, 1e-9, true).expect("ends");
+        let distance = fixed
+            .iter()
+            .map(|x| (output - x).abs())
+            .fold(f64::MAX, f64::min);
+        assert!(
+            distance <= bound.unwrap_or(1e-9 * output),
+            "{output} {bound:?}"
+        );
+        // Smooth contractions end by their tolerance, never at a step.
+        for smooth in [
+            |x: f64| 22.0 - 0.09 * x,
+            |x: f64| 3.5 / (1.0 + 0.01 * x) + 0.002 * x * x,
+            |x: f64| 30.0 / (1.0 + 0.005 * x) - 0.1 * x,
+        ] {
+            for hint in [Some(-0.2), Some(0.0), None] {
+                let start = Secant::new(Acceleration::Secant, smooth(0.0), hint);
+                let (_, _, bound) = iterate_to_step(smooth, start, 1e-12, true).expect("ends");
+                assert_eq!(bound, None);
+            }
+        }
     }
 
     /// Adaptive runs balance Newton's tolerance against the target error;
