@@ -1225,6 +1225,11 @@ impl<'a> PathSolver<'a> {
                             {
                                 let (x0, f0) = secant.previous;
                                 stepped = Some([x0, f0, input, new_jump]);
+                                if std::env::var_os("TCGEN_TRACE").is_some() {
+                                    eprintln!(
+                                        "self-consistency {k}: F steps across the fixed point between ϑ = {x0:.9e} (F = {f0:.9e}) and {input:.9e} K; bound {bound:.3e} K"
+                                    );
+                                }
                                 if estimates.is_some() {
                                     self.step_bounds[i] = Some(bound);
                                     converged = true;
