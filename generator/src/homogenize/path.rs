@@ -80,7 +80,10 @@ pub struct PointResult {
     /// the refinement going (the bulk's approach error, a face that may hide
     /// a touch), the reason follows in parentheses:
     /// `"max_levels (level 4's jump estimate met the target; the bulk's
-    /// estimated approach error 1.291 % exceeds 1 %)"`.
+    /// estimated approach error 1.291 % exceeds 1 %)"`. Where the plain
+    /// jump's estimate met the target but the self-consistent jump's (with
+    /// its fixed point's bound) does not: `"the plain jump's estimate met
+    /// the target; the self-consistent jump's is 1.012 %"`.
     /// `None` on a fixed mesh.
     pub refinement_stop: Option<String>,
     /// Unknowns of the mesh of `jump`: `(d + 1)` per control point.
@@ -1039,6 +1042,7 @@ impl<'a> PathSolver<'a> {
         }
         let theta_c = case.load.contact_temperature;
         let slave = slave_body(case);
+        let trace = std::env::var_os("TCGEN_TRACE").is_some();
         let kept = self
             .plain_phase
             .take()
@@ -1163,7 +1167,7 @@ impl<'a> PathSolver<'a> {
                             let output_error = secant
                                 .chord_slope(input, new_jump)
                                 .map(|slope| fixed_point_output_error(slope, change));
-                            if std::env::var_os("TCGEN_TRACE").is_some() {
+                            if trace {
                                 let distance =
                                     output_error.map_or("unknown".into(), |e| format!("{e:.2e} K"));
                                 let how = if predictor.is_some() {
@@ -1225,7 +1229,7 @@ impl<'a> PathSolver<'a> {
                             {
                                 let (x0, f0) = secant.previous;
                                 stepped = Some([x0, f0, input, new_jump]);
-                                if std::env::var_os("TCGEN_TRACE").is_some() {
+                                if trace {
                                     eprintln!(
                                         "self-consistency {k}: F steps across the fixed point between ϑ = {x0:.9e} (F = {f0:.9e}) and {input:.9e} K; bound {bound:.3e} K"
                                     );
