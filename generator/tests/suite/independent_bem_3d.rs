@@ -45,8 +45,22 @@ fn random_areal_exact_reference_is_the_exact_surface_and_sane() {
     check_reference(&case, &reference, |x, y| surface.height(x, y));
 }
 
+/// The self-affine surface's reference (many small spots; contact fractions
+/// 3.4–29 %): the exact surface on the grid.
+#[test]
+fn random_self_affine_exact_reference_is_the_exact_surface_and_sane() {
+    let case = areal_case("random_self_affine.toml");
+    let reference = Reference::read("random_self_affine_exact_tamaas.csv");
+    let (surface, _) = case.areal_surfaces().unwrap();
+    check_reference(&case, &reference, |x, y| surface.height(x, y));
+}
+
 fn random_areal_case() -> Case {
-    let text = std::fs::read_to_string(format!("{DATA}random_areal.toml")).unwrap();
+    areal_case("random_areal.toml")
+}
+
+fn areal_case(file: &str) -> Case {
+    let text = std::fs::read_to_string(format!("{DATA}{file}")).unwrap();
     let case = Case::from_toml(&text, Path::new(DATA)).unwrap();
     assert_eq!(case.dimension(), 3);
     case
@@ -203,9 +217,51 @@ fn long_adaptive_random_areal_against_tamaas() {
     d.target_error = Some(1.0e-4);
     d.max_levels = 3;
     case.load.pressures = vec![300.0, 600.0];
-    let reference = Reference::read("random_areal_exact_tamaas.csv");
-    let rows = reference.rows();
-    let results = tcgen::homogenize::path::solve_case(&case, None, |_| {}).unwrap();
+    check_adaptive_levels(&case, "random_areal_exact_tamaas.csv", 0.015, -0.015..0.015);
+}
+
+/// The adaptive levels on a surface of many small spots
+/// (`random_self_affine.toml`: self-affine, Hurst 0.8, cut-off 1.25 μm,
+/// RMS 10 nm; `TCGEN_LONG_TESTS=1`, about 2 minutes and 5.3 GB on 2
+/// cores): from 8 × 8 × 4 / 7 × 7 × 4 elements, three levels (target 1e-4,
+/// so that each is solved) at 300 and 1000 Pa (contact 8.9 and 29 %), plain
+/// two-phase, the nodal supports, against the exact surface's reference.
+/// Measured: the third level's jump +0.30 / +0.88 % from the one of
+/// Barber's analogy, its contact fraction −7.0 / −5.7 % (44 940 and 76 352
+/// unknowns), estimates 2.94 / 1.77 % (effectivity 9.8 and 2.0); the fourth
+/// level, not run here, is in docs/3d.md ("Many small spots against the
+/// boundary elements").
+#[test]
+fn long_adaptive_random_self_affine_against_tamaas() {
+    if std::env::var("TCGEN_LONG_TESTS").map_or(true, |v| v != "1") {
+        return;
+    }
+    let mut case = areal_case("random_self_affine.toml");
+    case.discretization.target_error = Some(1.0e-4);
+    case.discretization.max_levels = 3;
+    case.load.pressures = vec![300.0, 1000.0];
+    check_adaptive_levels(
+        &case,
+        "random_self_affine_exact_tamaas.csv",
+        0.015,
+        -0.09..0.0,
+    );
+}
+
+/// Solves `case` (adaptive, every level to `max_levels` solved) and checks
+/// each pressure's last level against the reference `file`: the jump within
+/// `jump_tolerance` (relative) of the one from Barber's analogy, the contact
+/// fraction's relative error in `contact`, and the estimate bounding the
+/// jump's error.
+fn check_adaptive_levels(
+    case: &Case,
+    file: &str,
+    jump_tolerance: f64,
+    contact: std::ops::Range<f64>,
+) {
+    let rows = Reference::read(file).rows();
+    let results = tcgen::homogenize::path::solve_case(case, None, |_| {}).unwrap();
+    let levels = case.discretization.max_levels;
     for r in &results {
         let row = rows
             .iter()
@@ -213,24 +269,29 @@ fn long_adaptive_random_areal_against_tamaas() {
             .expect("a reference row");
         let (fraction, barber) = (row[1], row[4]);
         assert!(r.converged, "{:?}", r.status);
-        assert_eq!(r.levels, [3, 3], "{:?}", r.refinement_stop);
+        assert_eq!(r.levels, [levels, levels], "{:?}", r.refinement_stop);
         let jump = case.load.flux / barber;
         let error = (r.jump - jump).abs();
         let estimate = r.jump_error.expect("an estimate");
-        let contact = (r.interface.contact_fraction - fraction) / fraction;
+        let contact_error = (r.interface.contact_fraction - fraction) / fraction;
         println!(
             "{:e} Pa: {} unknowns, jump {:.4} K against {jump:.4} K ({:+.2} %), contact {:+.2} %, estimate {estimate:.4} K (effectivity {:.2})",
             r.pressure,
             r.dofs,
             r.jump,
             100.0 * (r.jump / jump - 1.0),
-            100.0 * contact,
+            100.0 * contact_error,
             estimate / error
         );
-        assert!(error < 0.015 * jump, "{} Pa: jump {}", r.pressure, r.jump);
         assert!(
-            contact.abs() < 0.015,
-            "{} Pa: contact {contact}",
+            error < jump_tolerance * jump,
+            "{} Pa: jump {}",
+            r.pressure,
+            r.jump
+        );
+        assert!(
+            contact.contains(&contact_error),
+            "{} Pa: contact {contact_error}",
             r.pressure
         );
         assert!(
