@@ -540,6 +540,23 @@ impl Case {
         use crate::contact::Integration;
         let d = &self.discretization;
         let mut out = Vec::new();
+        let least = crate::homogenize::path::min_adaptive_levels(self.dimension());
+        if d.target_error.is_some() && d.max_levels < least {
+            let why = match self.dimension() {
+                3 => {
+                    " (its level-2 estimates fell below the error at 5 of 20 levels measured \
+                     against boundary elements; docs/adaptivity.md)"
+                }
+                _ => "",
+            };
+            out.push(format!(
+                "max_levels = {} with target_error: in {}D the estimate may meet the target \
+                 from level {least} on{why}, so every point will be flagged \
+                 (error_target_met = false) with its estimate",
+                d.max_levels,
+                self.dimension()
+            ));
+        }
         if self.dimension() == 3 && d.degree == 1 {
             if self.contact.integration != Integration::Segment {
                 out.push(

@@ -433,6 +433,13 @@ fn errors_name_the_key() {
     }
 }
 
+/// The cautions of the case `base` with `extra` appended.
+fn cautions(extra: &str, base: &str) -> Vec<String> {
+    Case::from_toml(&format!("{base}{extra}"), Path::new("."))
+        .unwrap()
+        .cautions()
+}
+
 /// Degree 1 in 3D is valid but known to stall under load with element-based
 /// contact points and, adaptive, to need far more unknowns than degree 2,
 /// its levels refining the bodies' bulk too (docs/3d.md, "Stop 67", "Stop
@@ -440,11 +447,6 @@ fn errors_name_the_key() {
 /// cause; degree 2 and 2D say nothing.
 #[test]
 fn degree_1_in_3d_comes_with_its_cautions() {
-    let cautions = |extra: &str, base: &str| {
-        Case::from_toml(&format!("{base}{extra}"), Path::new("."))
-            .unwrap()
-            .cautions()
-    };
     assert!(cautions("", EGG_BOX).is_empty());
     assert!(cautions("[discretization]\ndegree = 1\n", MINIMAL).is_empty());
     let c = cautions("[discretization]\ndegree = 1\n", EGG_BOX);
@@ -462,4 +464,39 @@ fn degree_1_in_3d_comes_with_its_cautions() {
         EGG_BOX,
     );
     assert_eq!(c.len(), 2, "{c:?}");
+}
+
+/// A 3D point needs three levels before its estimate may meet the target
+/// (`min_adaptive_levels`), a 2D point two: an adaptive case whose
+/// `max_levels` is below that says before it runs that every point will be
+/// flagged; at the minimum, or without a target, it says nothing.
+#[test]
+fn too_few_levels_for_the_estimate_come_with_a_caution() {
+    let c = cautions(
+        "[discretization]\ntarget_error = 0.01\nmax_levels = 2\n",
+        EGG_BOX,
+    );
+    assert_eq!(c.len(), 1, "{c:?}");
+    assert!(
+        c[0].contains("max_levels = 2") && c[0].contains("from level 3 on"),
+        "{c:?}"
+    );
+    for extra in [
+        "[discretization]\ntarget_error = 0.01\nmax_levels = 3\n",
+        "[discretization]\nmax_levels = 2\n",
+    ] {
+        assert!(cautions(extra, EGG_BOX).is_empty(), "{extra}");
+    }
+    assert!(
+        cautions(
+            "[discretization]\ntarget_error = 0.01\nmax_levels = 2\n",
+            MINIMAL
+        )
+        .is_empty()
+    );
+    let c = cautions(
+        "[discretization]\ntarget_error = 0.01\nmax_levels = 1\n",
+        MINIMAL,
+    );
+    assert!(c.len() == 1 && c[0].contains("in 2D"), "{c:?}");
 }
