@@ -78,7 +78,8 @@ pub struct PointResult {
     /// the last solved level; a failed first level leaves no estimate).
     /// Where the last level's estimate met the target but an indicator kept
     /// the refinement going (the bulk's approach error, a face that may hide
-    /// a touch), the reason follows in parentheses:
+    /// a touch) or the level came before [`min_adaptive_levels`], the reason
+    /// follows in parentheses:
     /// `"max_levels (level 4's jump estimate met the target; the bulk's
     /// estimated approach error 1.291 % exceeds 1 %)"`. Where the plain
     /// jump's estimate met the target but the self-consistent jump's (with
@@ -888,17 +889,22 @@ impl<'a> PathSolver<'a> {
                     process_memory("VmHWM:").map_or("unknown".into(), |b| format_bytes(b as f64))
                 );
             }
-            met = level >= min_adaptive_levels(case.sample.dimension)
-                && in_regime >= FITTED_LEVELS
-                && est
-                    .iter()
-                    .zip(&best)
-                    .all(|(e, r)| *e <= target * r.jump.abs());
+            let estimate_met = est
+                .iter()
+                .zip(&best)
+                .all(|(e, r)| *e <= target * r.jump.abs());
+            let least = min_adaptive_levels(case.sample.dimension);
+            met = level >= least && in_regime >= FITTED_LEVELS && estimate_met;
             // The estimate sees the bulk only where the levels refined it:
             // while the bulk's estimated approach error exceeds its share of
             // the target, the refinement goes on, marking the bulk too.
             bulk = bulk_of(&next.model, &best);
-            withheld = None;
+            withheld = (estimate_met && level < least).then(|| {
+                format!(
+                    "level {level}'s jump estimate met the target; a {}D estimate may end the refinement from level {least} on",
+                    case.sample.dimension
+                )
+            });
             if met && let Some((_, error)) = bulk.as_ref().filter(|b| b.1 > bulk_threshold) {
                 withheld = Some(format!(
                     "level {level}'s jump estimate met the target; the bulk's estimated approach error {:.3} % exceeds {} %",

@@ -1000,7 +1000,8 @@ fn level_recorder() -> (
 /// 20 levels measured against boundary elements): the egg box of
 /// `tables/egg_box_on_flat.toml` on `[4, 4, 2]` / `[3, 3, 2]` at 30 kPa,
 /// plain two-phase, target 20 %. Level 2's estimate (17.7 %, measured) meets
-/// the target, and the point goes on to level 3 (6.3 %), where it stops.
+/// the target, and the point goes on to level 3 (6.3 %), where it stops;
+/// with `max_levels = 2` it is flagged, its reason naming the rule.
 #[test]
 fn a_3d_point_needs_three_levels_before_its_estimate_meets_the_target() {
     use tcgen::homogenize::solve_case_observed;
@@ -1016,6 +1017,17 @@ fn a_3d_point_needs_three_levels_before_its_estimate_meets_the_target() {
     assert_eq!(r.levels, [3, 3], "{:?}", r.refinement_stop);
     assert_eq!(r.refinement_stop.as_deref(), Some("target met"));
     assert_eq!(r.error_target_met, Some(true));
+    // With two levels allowed, the point is flagged, and says why.
+    let two = solve(&coarse_adaptive_egg_box(vec![3.0e4], 0.2, 2));
+    assert_eq!(
+        (two[0].error_target_met, two[0].refinement_stop.as_deref()),
+        (
+            Some(false),
+            Some(
+                "max_levels (level 2's jump estimate met the target; a 3D estimate may end the refinement from level 3 on)"
+            )
+        )
+    );
 }
 
 /// A 3D adaptive path reports each level as it ends and each point before
