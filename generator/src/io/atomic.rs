@@ -24,7 +24,28 @@ pub fn partial_path(path: &Path) -> PathBuf {
 }
 
 /// Writes `bytes` to `path` atomically (temporary file, `fsync`, `rename`).
+/// A symbolic link is followed: the file it points to is replaced, the link
+/// kept. A target that exists and is not a regular file (`/dev/null`,
+/// `/dev/stdout`, a named pipe) is written in place: a `rename` would replace
+/// the device or pipe itself by a regular file (run as root, `-o /dev/null`
+/// once turned the machine's `/dev/null` into a file that later reads
+/// returned).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    if let Ok(m) = std::fs::metadata(path)
+        && !m.is_file()
+        && !m.is_dir()
+    {
+        let mut f = std::fs::OpenOptions::new()
+            .write(true)
+            .open(path)
+            .map_err(|e| io_error(path, e))?;
+        return f.write_all(bytes).map_err(|e| io_error(path, e));
+    }
+    let resolved = match std::fs::symlink_metadata(path) {
+        Ok(m) if m.file_type().is_symlink() => std::fs::canonicalize(path).ok(),
+        _ => None,
+    };
+    let path = resolved.as_deref().unwrap_or(path);
     let tmp = partial_path(path);
     let result = (|| {
         let mut f = std::fs::File::create(&tmp).map_err(|e| io_error(&tmp, e))?;
@@ -61,6 +82,47 @@ mod tests {
         assert!(!partial_path(&p).exists());
         let e = write_atomic(&dir.join("missing/t.bin"), b"x").unwrap_err();
         assert!(e.to_string().contains("missing"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A link is followed (the file it points to replaced, the link kept),
+    /// and a named pipe is written in place, not replaced by a file: its
+    /// reader gets the bytes.
+    #[cfg(unix)]
+    #[test]
+    fn follows_links_and_writes_special_files_in_place() {
+        use std::io::Read;
+        use std::os::unix::fs::{FileTypeExt, OpenOptionsExt};
+        let dir = std::env::temp_dir().join(format!("tcgen-atomic-special-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let (file, link) = (dir.join("table.h5"), dir.join("current.h5"));
+        std::fs::write(&file, b"old").unwrap();
+        std::os::unix::fs::symlink(&file, &link).unwrap();
+        write_atomic(&link, b"new").unwrap();
+        assert!(
+            std::fs::symlink_metadata(&link)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert_eq!(std::fs::read(&file).unwrap(), b"new");
+        let fifo = dir.join("pipe");
+        let made = std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap();
+        assert!(made.success());
+        // A reader opened without waiting for a writer (O_NONBLOCK on Linux).
+        let mut reader = std::fs::OpenOptions::new()
+            .read(true)
+            .custom_flags(0o4000)
+            .open(&fifo)
+            .unwrap();
+        write_atomic(&fifo, b"through the pipe").unwrap();
+        let mut got = Vec::new();
+        let _ = reader.read_to_end(&mut got);
+        assert_eq!(got, b"through the pipe");
+        assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
