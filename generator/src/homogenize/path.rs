@@ -1482,11 +1482,11 @@ pub fn fixed_point_output_error(slope: f64, change: f64) -> f64 {
 /// Levels of adaptive refinement before the estimate may stop the loop in
 /// dimension `dim`: 2 in 2D (the first difference can be small by chance on
 /// a pre-asymptotic coarse mesh), 3 in 3D. Against independent boundary
-/// elements the 3D level-2 estimates fell below the error at 5 of 20
+/// elements the 3D level-2 estimates fell below the error at 5 of 21
 /// measured levels (effectivity 0.45–0.78; the self-affine surface from
 /// `[16, 16, 4]` at 29 % contact: 0.55 % for an error of 0.88 %, a 1 %
 /// target met falsely; a Gaussian surface at 600 Pa: 1.5 % for 3.09 %),
-/// and the level-3 ones at 1 of 20 (0.97, on an estimate of 3.4 %;
+/// and the level-3 ones at 1 of 21 (0.97, on an estimate of 3.4 %;
 /// docs/3d.md, "Many small spots against the boundary elements"). The
 /// jumps of a 3D surface alternate around the limit from level to level,
 /// so that two changes may both be small by chance; three give the

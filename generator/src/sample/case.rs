@@ -544,7 +544,7 @@ impl Case {
         if d.target_error.is_some() && d.max_levels < least {
             let why = match self.dimension() {
                 3 => {
-                    " (its level-2 estimates fell below the error at 5 of 20 levels measured \
+                    " (its level-2 estimates fell below the error at 5 of 21 levels measured \
                      against boundary elements; docs/adaptivity.md)"
                 }
                 _ => "",

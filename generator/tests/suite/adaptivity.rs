@@ -997,7 +997,7 @@ fn level_recorder() -> (
 
 /// A 3D point's estimate may end the refinement from level 3 on
 /// (`min_adaptive_levels`; its level-2 estimates fell below the error at 5 of
-/// 20 levels measured against boundary elements): the egg box of
+/// 21 levels measured against boundary elements): the egg box of
 /// `tables/egg_box_on_flat.toml` on `[4, 4, 2]` / `[3, 3, 2]` at 30 kPa,
 /// plain two-phase, target 20 %. Level 2's estimate (17.7 %, measured) meets
 /// the target, and the point goes on to level 3 (6.3 %), where it stops;
