@@ -255,9 +255,21 @@ fn sweep(a: SweepArgs) -> ExitCode {
         }
     };
     print_cautions(&cfg.case);
-    // Before any computing: the mesh fits in memory on every thread.
+    // Before any computing: the mesh fits in memory on every path run at once.
     let threads = a.threads.unwrap_or_else(rayon::current_num_threads);
-    if let Err(e) = tcgen::solve::resources::check(&cfg.case, threads) {
+    let at_once = match tcgen::solve::resources::concurrent_paths(&cfg.case, threads) {
+        Ok((n, why)) => {
+            if let Some(why) = why {
+                eprintln!("note: {n} path(s) at a time on {threads} threads: {why}");
+            }
+            n
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    if let Err(e) = tcgen::solve::resources::check(&cfg.case, at_once) {
         eprintln!("error: {e}");
         return ExitCode::from(2);
     }
@@ -308,12 +320,17 @@ fn sweep(a: SweepArgs) -> ExitCode {
     };
     let t = &r.timing;
     println!(
-        "  {} of {} micro-solves computed ({} failed) in {} tasks on {} threads in {:.1} s: {:.3} micro-solves/s; {} reused from the checkpoint",
+        "  {} of {} micro-solves computed ({} failed) in {} tasks on {} threads{} in {:.1} s: {:.3} micro-solves/s; {} reused from the checkpoint",
         r.micro_solves,
         r.shard_micro_solves,
         r.failed_micro_solves,
         r.tasks,
         r.threads,
+        if r.paths_at_once < r.threads.min(r.tasks) {
+            format!(" ({} at a time)", r.paths_at_once)
+        } else {
+            String::new()
+        },
         t.wall,
         r.micro_solves as f64 / t.wall.max(1e-9),
         r.reused_micro_solves
@@ -669,10 +686,15 @@ fn check(file: &std::path::Path, threads: Option<usize>) -> ExitCode {
         }
     };
     let is_sweep = toml::from_str::<toml::Table>(&text).is_ok_and(|t| t.contains_key("sweep"));
+    let mut paths_note = None;
     let loaded = if is_sweep {
-        tcgen::sweep::SweepConfig::read(file).map(|c| {
+        tcgen::sweep::SweepConfig::read(file).and_then(|c| {
             let n = threads.unwrap_or_else(rayon::current_num_threads);
-            (c.case.clone(), c.resolved.clone(), n, "sweep")
+            let (at_once, why) = resources::concurrent_paths(&c.case, n)?;
+            if let Some(why) = why {
+                paths_note = Some(format!("{at_once} path(s) at a time on {n} threads: {why}"));
+            }
+            Ok((c.case.clone(), c.resolved.clone(), at_once, "sweep"))
         })
     } else {
         tcgen::sample::Case::read(file).and_then(|c| {
@@ -734,6 +756,9 @@ fn check(file: &std::path::Path, threads: Option<usize>) -> ExitCode {
             tcgen::homogenize::path::newton_settings(&case).relative_tolerance,
             tcgen::homogenize::path::newton_target_share(case.dimension())
         );
+    }
+    if let Some(note) = paths_note {
+        println!("# {note}");
     }
     for c in case.cautions() {
         println!("# caution: {c}");

@@ -404,6 +404,59 @@ pub fn format_bytes(b: f64) -> String {
     }
 }
 
+/// `" (TCGEN_MEMORY_LIMIT)"` where that variable sets [`memory_limit`], for messages.
+fn limit_note() -> &'static str {
+    if std::env::var_os("TCGEN_MEMORY_LIMIT").is_some() {
+        " (TCGEN_MEMORY_LIMIT)"
+    } else {
+        ""
+    }
+}
+
+/// The paths a sweep of `case` on `threads` worker threads runs at once:
+/// `threads`, but for an adaptive case (`target_error`) at most as many
+/// solves at `max_dofs` as the memory limit holds ([`memory_for`],
+/// [`memory_limit`]; at least one), with the reason where that binds.
+///
+/// A refined level's factorization and assembly are checked against the
+/// memory left as they are built ([`ensure_memory`]), so two paths refining
+/// at once where the memory holds one of them would refuse a level of
+/// whichever came second, flagged: the table would depend on the timing of
+/// the threads. In 3D a refined level's factorization uses every core by
+/// itself, so that fewer paths at once cost little time (a 3D point's
+/// levels run one at a time in `tcgen solve` for the same reasons).
+pub fn concurrent_paths(case: &Case, threads: usize) -> Result<(usize, Option<String>)> {
+    let threads = threads.max(1);
+    let d = &case.discretization;
+    if d.target_error.is_none() {
+        return Ok((threads, None));
+    }
+    let Some(limit) = memory_limit()? else {
+        return Ok((threads, None));
+    };
+    let per_solve = memory_for(
+        d.max_dofs,
+        d.degree,
+        case.dimension(),
+        QuadraturePoints::of(case),
+    );
+    let fit = ((limit / per_solve).floor() as usize).max(1);
+    Ok(if fit < threads {
+        (
+            fit,
+            Some(format!(
+                "adaptive levels grow up to max_dofs = {} unknowns, about {} per solve, {} available{}",
+                d.max_dofs,
+                format_bytes(per_solve),
+                format_bytes(limit),
+                limit_note()
+            )),
+        )
+    } else {
+        (threads, None)
+    })
+}
+
 /// Refuses a case whose initial mesh cannot fit `concurrent` solves in the
 /// memory limit ([`memory_limit`]); the error names the element keys and
 /// gives the estimate.
@@ -433,11 +486,7 @@ pub fn check(case: &Case, concurrent: usize) -> Result<ResourceEstimate> {
                     String::new()
                 },
                 format_bytes(limit),
-                if std::env::var_os("TCGEN_MEMORY_LIMIT").is_some() {
-                    " (TCGEN_MEMORY_LIMIT)"
-                } else {
-                    ""
-                }
+                limit_note()
             ),
         ));
     }

@@ -1,7 +1,9 @@
 //! The sweep runner: the tasks of a shard in parallel (rayon) — the fluxes
 //! of one sample and contact temperature share a solver; with pressure
 //! continuation a task runs all pressures of its paths, without it each
-//! pressure is a task of its own — a checkpoint line per finished piece,
+//! pressure is a task of its own; adaptive tasks at most as many at once as
+//! the memory holds refined levels at `max_dofs`
+//! ([`crate::solve::resources::concurrent_paths`]) — a checkpoint line per finished piece,
 //! progress, and the table written atomically at the end.
 
 use std::collections::BTreeSet;
@@ -94,6 +96,10 @@ pub struct SweepReport {
     pub tasks: usize,
     /// Worker threads.
     pub threads: usize,
+    /// Tasks run at once: `threads`, or fewer for adaptive paths whose
+    /// refined levels would not fit in memory side by side
+    /// ([`crate::solve::resources::concurrent_paths`]).
+    pub paths_at_once: usize,
     /// Timing.
     pub timing: Timing,
 }
@@ -281,53 +287,62 @@ pub fn run_sweep(cfg: &SweepConfig, output: &Path, options: &SweepOptions) -> Re
     let started = AtomicUsize::new(0);
     let checkpoint_time = Mutex::new(0.0);
     let ran = AtomicUsize::new(0);
-    pool.install(|| {
-        todo.par_iter().for_each(|task| {
-            if stop.load(Ordering::SeqCst) || options.deadline.is_some_and(|d| Instant::now() >= d)
-            {
-                stop.store(true, Ordering::SeqCst);
-                return;
-            }
-            if let Some(m) = options.max_tasks
-                && started.fetch_add(1, Ordering::SeqCst) >= m
-            {
-                stop.store(true, Ordering::SeqCst);
-                return;
-            }
-            ran.fetch_add(1, Ordering::SeqCst);
-            let cases: Vec<_> = task
-                .paths
-                .iter()
-                .map(|&k| {
-                    let (s, it, ih) = path_indices(k, nh, nt);
-                    cfg.path_case(s, ih, it)
-                })
-                .collect();
-            let on_point = |r: &PointRecord| progress.point(r.status != PointStatus::Converged);
-            let pieces = solve_flux_group(
-                &cases,
-                task.pressures.clone(),
-                cfg.sweep.continuation,
-                &on_point,
-                Some(&on_level),
-            );
-            for (&k, o) in task.paths.iter().zip(pieces) {
-                let t = Instant::now();
-                if let Err(e) = checkpoint.append(k, &o) {
-                    first_error
-                        .lock()
-                        .unwrap_or_else(|p| p.into_inner())
-                        .get_or_insert(e);
-                    stop.store(true, Ordering::SeqCst);
-                }
-                *checkpoint_time.lock().unwrap_or_else(|p| p.into_inner()) +=
-                    t.elapsed().as_secs_f64();
-                results
+    let (paths_at_once, _) = crate::solve::resources::concurrent_paths(&cfg.case, threads)?;
+    let run_task = |task: &Task| {
+        if stop.load(Ordering::SeqCst) || options.deadline.is_some_and(|d| Instant::now() >= d) {
+            stop.store(true, Ordering::SeqCst);
+            return;
+        }
+        if let Some(m) = options.max_tasks
+            && started.fetch_add(1, Ordering::SeqCst) >= m
+        {
+            stop.store(true, Ordering::SeqCst);
+            return;
+        }
+        ran.fetch_add(1, Ordering::SeqCst);
+        let cases: Vec<_> = task
+            .paths
+            .iter()
+            .map(|&k| {
+                let (s, it, ih) = path_indices(k, nh, nt);
+                cfg.path_case(s, ih, it)
+            })
+            .collect();
+        let on_point = |r: &PointRecord| progress.point(r.status != PointStatus::Converged);
+        let pieces = solve_flux_group(
+            &cases,
+            task.pressures.clone(),
+            cfg.sweep.continuation,
+            &on_point,
+            Some(&on_level),
+        );
+        for (&k, o) in task.paths.iter().zip(pieces) {
+            let t = Instant::now();
+            if let Err(e) = checkpoint.append(k, &o) {
+                first_error
                     .lock()
                     .unwrap_or_else(|p| p.into_inner())
-                    .push((k, o));
+                    .get_or_insert(e);
+                stop.store(true, Ordering::SeqCst);
             }
-        });
+            *checkpoint_time.lock().unwrap_or_else(|p| p.into_inner()) += t.elapsed().as_secs_f64();
+            results
+                .lock()
+                .unwrap_or_else(|p| p.into_inner())
+                .push((k, o));
+        }
+    };
+    pool.install(|| {
+        if paths_at_once >= threads {
+            todo.par_iter().for_each(run_task);
+        } else {
+            // Adaptive paths whose refined levels would not fit in memory
+            // side by side (`concurrent_paths`): a few tasks at a time, each
+            // with every worker for its factorizations.
+            for some in todo.chunks(paths_at_once) {
+                some.par_iter().for_each(run_task);
+            }
+        }
     });
     progress.finish();
     if let Some(e) = first_error.into_inner().unwrap_or_else(|p| p.into_inner()) {
@@ -360,6 +375,7 @@ pub fn run_sweep(cfg: &SweepConfig, output: &Path, options: &SweepOptions) -> Re
         failed_micro_solves,
         tasks: ran.into_inner(),
         threads,
+        paths_at_once,
         timing,
     };
     if reused_micro_solves + micro_solves < owned.len() * np {

@@ -503,6 +503,93 @@ fn a_3d_case_is_checked_solved_tabled_and_mapped() {
     assert!((crest - 2.0e-6).abs() < 0.05e-6, "{crest}");
 }
 
+/// Adaptive paths whose refined levels would not fit in memory side by side
+/// run a few at a time (`resources::concurrent_paths`): an adaptive sweep of
+/// two paths (two contact temperatures) on 2 threads whose `max_dofs` meshes
+/// need about 0.28 GB each (2D, 20 000 unknowns) runs one path at a time
+/// under a 0.4 GB limit, says so in `check` and `sweep`, and writes the same
+/// table as with room for both. (Two paths refining at once where one fits
+/// would refuse a level of whichever came second, by timing.)
+#[test]
+fn adaptive_paths_that_do_not_fit_side_by_side_run_one_at_a_time() {
+    let dir = scratch("cli-paths-at-once");
+    let (sweep, _) = config(
+        &dir,
+        "adaptive.toml",
+        &sinusoid_sweep(
+            "[1.0e4]",
+            "1.0e6",
+            "[293.15, 313.15]",
+            "target_error = 0.05\nmax_dofs = 20000\n[homogenization]\nmethod = \"two-phase\"",
+        ),
+    );
+    let tcgen = |limit: &str| {
+        let mut c = Command::new(env!("CARGO_BIN_EXE_tcgen"));
+        c.env("TCGEN_MEMORY_LIMIT", limit);
+        c
+    };
+    let note = "1 path(s) at a time on 2 threads: adaptive levels grow up to max_dofs = 20000";
+    let out = succeeded(tcgen("400M").args(["check", "--threads", "2"]).arg(&sweep));
+    assert!(out.contains(note), "{out}");
+    let out = succeeded(tcgen("64G").args(["check", "--threads", "2"]).arg(&sweep));
+    assert!(!out.contains("at a time"), "{out}");
+    let mut tables = Vec::new();
+    for (limit, at_once) in [("400M", true), ("64G", false)] {
+        let table = dir.join(format!("t-{limit}.h5"));
+        let o = tcgen(limit)
+            .args(["sweep", "--threads", "2", "--progress", "quiet", "-o"])
+            .arg(&table)
+            .arg(&sweep)
+            .output()
+            .unwrap();
+        let (out, err) = (
+            String::from_utf8_lossy(&o.stdout),
+            String::from_utf8_lossy(&o.stderr),
+        );
+        assert!(o.status.success(), "{out}{err}");
+        assert_eq!(err.contains(note), at_once, "{err}");
+        assert_eq!(
+            out.contains("in 2 tasks on 2 threads (1 at a time)"),
+            at_once,
+            "{out}"
+        );
+        let t = tcgen::io::read_table(&table).unwrap();
+        for it in 0..2 {
+            let v = t.point(0, 0, it, 0).values.expect("converged");
+            assert!(v.jump_error.is_some_and(|e| e > 0.0), "temperature {it}");
+        }
+        tables.push(normalized(&t));
+    }
+    assert!(tables[0] == tables[1], "the tables differ");
+}
+
+/// Issue 11 item 5: the tables that `scripts/nightly.sh` builds (every
+/// sweep file under `tables/`) are adaptive, so that each of their jumps
+/// carries its error estimate; `reference.toml`, the fixed-mesh regression
+/// fixture of `sweep_reference`, is the one exception.
+#[test]
+fn every_nightly_table_is_adaptive() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tables");
+    let mut n = 0;
+    for entry in std::fs::read_dir(&root).unwrap() {
+        let path = entry.unwrap().path();
+        let text = std::fs::read_to_string(&path).unwrap_or_default();
+        let is_sweep = path.extension().is_some_and(|e| e == "toml")
+            && text.lines().any(|l| l.trim() == "[sweep]");
+        if !is_sweep || path.file_name().is_some_and(|f| f == "reference.toml") {
+            continue;
+        }
+        let cfg = tcgen::sweep::SweepConfig::read(&path).unwrap();
+        assert!(
+            cfg.case.discretization.target_error.is_some(),
+            "{}: a nightly table without target_error",
+            path.display()
+        );
+        n += 1;
+    }
+    assert!(n >= 4, "{n} sweep files");
+}
+
 /// Every case and sweep file under `tables/` is valid (`tcgen check`).
 #[test]
 fn every_committed_table_file_is_valid() {
