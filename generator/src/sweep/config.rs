@@ -329,6 +329,18 @@ impl SweepConfig {
         self.case.surface.upper.random().is_some() || self.case.surface.lower.random().is_some()
     }
 
+    /// Tasks of the whole sweep (`sweep::run`): one per sample and contact
+    /// temperature (its fluxes share a solver), and per pressure too without
+    /// continuation; at most this many run at once, whatever the threads.
+    pub fn tasks(&self) -> usize {
+        let per_path = if self.sweep.continuation {
+            1
+        } else {
+            self.pressures.len()
+        };
+        self.sweep.samples * self.contact_temperatures.len() * per_path
+    }
+
     /// The case of one path: sample `s`, flux `fluxes[ih]`, temperature
     /// `contact_temperatures[it]`, all pressures.
     pub fn path_case(&self, sample: usize, ih: usize, it: usize) -> Case {

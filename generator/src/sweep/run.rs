@@ -3,8 +3,8 @@
 //! continuation a task runs all pressures of its paths, without it each
 //! pressure is a task of its own; adaptive tasks at most as many at once as
 //! the memory holds refined levels at `max_dofs`
-//! ([`crate::solve::resources::concurrent_paths`]) — a checkpoint line per finished piece,
-//! progress, and the table written atomically at the end.
+//! ([`crate::solve::resources::concurrent_paths`]) — a checkpoint line per
+//! finished piece, progress, and the table written atomically at the end.
 
 use std::collections::BTreeSet;
 use std::ops::Range;
@@ -96,9 +96,9 @@ pub struct SweepReport {
     pub tasks: usize,
     /// Worker threads.
     pub threads: usize,
-    /// Tasks run at once: `threads`, or fewer for adaptive paths whose
-    /// refined levels would not fit in memory side by side
-    /// ([`crate::solve::resources::concurrent_paths`]).
+    /// Tasks run at once: `threads` (or the tasks, if fewer), or fewer still
+    /// for adaptive paths whose refined levels would not fit in memory side
+    /// by side ([`crate::solve::resources::concurrent_paths`]).
     pub paths_at_once: usize,
     /// Timing.
     pub timing: Timing,
@@ -287,7 +287,8 @@ pub fn run_sweep(cfg: &SweepConfig, output: &Path, options: &SweepOptions) -> Re
     let started = AtomicUsize::new(0);
     let checkpoint_time = Mutex::new(0.0);
     let ran = AtomicUsize::new(0);
-    let (paths_at_once, _) = crate::solve::resources::concurrent_paths(&cfg.case, threads)?;
+    let (paths_at_once, _) =
+        crate::solve::resources::concurrent_paths(&cfg.case, threads.min(todo.len()).max(1))?;
     let run_task = |task: &Task| {
         if stop.load(Ordering::SeqCst) || options.deadline.is_some_and(|d| Instant::now() >= d) {
             stop.store(true, Ordering::SeqCst);
@@ -333,7 +334,7 @@ pub fn run_sweep(cfg: &SweepConfig, output: &Path, options: &SweepOptions) -> Re
         }
     };
     pool.install(|| {
-        if paths_at_once >= threads {
+        if paths_at_once >= threads.min(todo.len()) {
             todo.par_iter().for_each(run_task);
         } else {
             // Adaptive paths whose refined levels would not fit in memory

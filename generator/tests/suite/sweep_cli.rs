@@ -508,7 +508,8 @@ fn a_3d_case_is_checked_solved_tabled_and_mapped() {
 /// two paths (two contact temperatures) on 2 threads whose `max_dofs` meshes
 /// need about 0.28 GB each (2D, 20 000 unknowns) runs one path at a time
 /// under a 0.4 GB limit, says so in `check` and `sweep`, and writes the same
-/// table as with room for both. (Two paths refining at once where one fits
+/// table as with room for both; so do the 3D tables' four samples, not a
+/// sweep of one path. (Two paths refining at once where one fits
 /// would refuse a level of whichever came second, by timing.)
 #[test]
 fn adaptive_paths_that_do_not_fit_side_by_side_run_one_at_a_time() {
@@ -533,6 +534,21 @@ fn adaptive_paths_that_do_not_fit_side_by_side_run_one_at_a_time() {
     assert!(out.contains(note), "{out}");
     let out = succeeded(tcgen("64G").args(["check", "--threads", "2"]).arg(&sweep));
     assert!(!out.contains("at a time"), "{out}");
+    // The 3D tables: four samples whose levels at max_dofs need about 13 GB
+    // each share 20 GB one at a time; a single path has nothing to share.
+    let tables = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tables");
+    for (file, at_once) in [("nightly_random_3d.toml", true), ("demo_3d.toml", false)] {
+        let out = succeeded(
+            tcgen("20G")
+                .args(["check", "--threads", "2"])
+                .arg(tables.join(file)),
+        );
+        assert_eq!(
+            out.contains("# 1 path(s) at a time on 2 threads"),
+            at_once,
+            "{file}: {out}"
+        );
+    }
     let mut tables = Vec::new();
     for (limit, at_once) in [("400M", true), ("64G", false)] {
         let table = dir.join(format!("t-{limit}.h5"));
