@@ -257,11 +257,11 @@ fn sweep(a: SweepArgs) -> ExitCode {
     print_cautions(&cfg.case);
     // Before any computing: the mesh fits in memory on every path run at once.
     let threads = a.threads.unwrap_or_else(rayon::current_num_threads);
-    let busy = threads.min(cfg.tasks()).max(1);
+    let busy = cfg.busy_threads(threads);
     let at_once = match tcgen::solve::resources::concurrent_paths(&cfg.case, busy) {
-        Ok((n, why)) => {
-            if let Some(why) = why {
-                eprintln!("note: {n} path(s) at a time on {threads} threads: {why}");
+        Ok((n, note)) => {
+            if let Some(note) = note {
+                eprintln!("note: {note}");
             }
             n
         }
@@ -690,14 +690,9 @@ fn check(file: &std::path::Path, threads: Option<usize>) -> ExitCode {
     let mut paths_note = None;
     let loaded = if is_sweep {
         tcgen::sweep::SweepConfig::read(file).and_then(|c| {
-            let n = threads
-                .unwrap_or_else(rayon::current_num_threads)
-                .min(c.tasks())
-                .max(1);
-            let (at_once, why) = resources::concurrent_paths(&c.case, n)?;
-            if let Some(why) = why {
-                paths_note = Some(format!("{at_once} path(s) at a time on {n} threads: {why}"));
-            }
+            let n = c.busy_threads(threads.unwrap_or_else(rayon::current_num_threads));
+            let (at_once, note) = resources::concurrent_paths(&c.case, n)?;
+            paths_note = note;
             Ok((c.case.clone(), c.resolved.clone(), at_once, "sweep"))
         })
     } else {

@@ -416,15 +416,15 @@ fn limit_note() -> &'static str {
 /// The paths a sweep of `case` on `threads` worker threads runs at once:
 /// `threads`, but for an adaptive case (`target_error`) at most as many
 /// solves at `max_dofs` as the memory limit holds ([`memory_for`],
-/// [`memory_limit`]; at least one), with the reason where that binds.
+/// [`memory_limit`]; at least one), with a note saying so where that binds.
 ///
 /// A refined level's factorization and assembly are checked against the
 /// memory left as they are built ([`ensure_memory`]), so two paths refining
 /// at once where the memory holds one of them would refuse a level of
 /// whichever came second, flagged: the table would depend on the timing of
-/// the threads. In 3D a refined level's factorization uses every core by
-/// itself, so that fewer paths at once cost little time (a 3D point's
-/// levels run one at a time in `tcgen solve` for the same reasons).
+/// the threads. In 3D a refined level's factorization is parallel by itself
+/// (a 3D point's levels run one at a time in `tcgen solve` for the same
+/// reasons).
 pub fn concurrent_paths(case: &Case, threads: usize) -> Result<(usize, Option<String>)> {
     let threads = threads.max(1);
     let d = &case.discretization;
@@ -445,7 +445,7 @@ pub fn concurrent_paths(case: &Case, threads: usize) -> Result<(usize, Option<St
         (
             fit,
             Some(format!(
-                "adaptive levels grow up to max_dofs = {} unknowns, about {} per solve, {} available{}",
+                "{fit} path(s) at a time on {threads} threads: adaptive levels grow up to max_dofs = {} unknowns, about {} per solve, {} available{}",
                 d.max_dofs,
                 format_bytes(per_solve),
                 format_bytes(limit),

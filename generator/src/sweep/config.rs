@@ -341,6 +341,12 @@ impl SweepConfig {
         self.sweep.samples * self.contact_temperatures.len() * per_path
     }
 
+    /// The threads a run of the whole sweep on `threads` keeps busy: at most
+    /// its [`SweepConfig::tasks`], at least one.
+    pub fn busy_threads(&self, threads: usize) -> usize {
+        threads.min(self.tasks()).max(1)
+    }
+
     /// The case of one path: sample `s`, flux `fluxes[ih]`, temperature
     /// `contact_temperatures[it]`, all pressures.
     pub fn path_case(&self, sample: usize, ih: usize, it: usize) -> Case {
