@@ -1467,6 +1467,21 @@ pub struct EggBoxBenchRow {
     pub self_consistency_iterations: usize,
     /// Wall time of the point (s).
     pub wall_s: f64,
+    /// Why the refinement ended where the target was not met
+    /// ([`crate::homogenize::path::PointResult::refinement_stop`]).
+    pub refinement_stop: Option<String>,
+}
+
+/// The adaptive settings of the 3D benchmark ([`egg_box_case`]).
+#[derive(Clone, Copy, Debug)]
+pub struct EggBoxAdaptive {
+    /// Target relative error of the jump (`--target`).
+    pub target: f64,
+    /// Refinement levels at most per pressure (`--max-levels`).
+    pub max_levels: usize,
+    /// Unknowns at most of a level (`--max-dofs`; `None`: the case's, the
+    /// default 200 000).
+    pub max_dofs: Option<usize>,
 }
 
 /// Refinement levels at most of the 3D benchmark of issue 12 (`tcgen bench
@@ -1475,12 +1490,11 @@ pub const EGG_BOX_BENCH_MAX_LEVELS: usize = 4;
 
 /// The 3D benchmark case of issue 12: `tables/egg_box_on_flat.toml` (the
 /// egg box on a flat, Table I material, p = 2, two-phase self-consistent,
-/// 10 pressures from 1 kPa to `p*/2`), adaptive to `target` with at most
-/// `max_levels` levels per pressure (`Some((target, max_levels))`), or on
+/// 10 pressures from 1 kPa to `p*/2`), adaptive as `adaptive` says, or on
 /// the case's fixed mesh refined `interface_levels` times at the interface
 /// (`None`; the adaptive benchmark refines by itself, and takes 0).
 pub fn egg_box_case(
-    adaptive: Option<(f64, usize)>,
+    adaptive: Option<EggBoxAdaptive>,
     interface_levels: usize,
 ) -> Result<crate::sample::Case> {
     let mut case = crate::sample::Case::from_toml(
@@ -1495,11 +1509,15 @@ pub fn egg_box_case(
                 "0 unless --fixed (the adaptive benchmark refines by itself)",
             ));
         }
-        Some((target, max_levels)) => {
-            crate::sample::case::check_target_error("--target", target)?;
-            crate::sample::case::check_max_levels("--max-levels", max_levels)?;
-            case.discretization.target_error = Some(target);
-            case.discretization.max_levels = max_levels;
+        Some(a) => {
+            crate::sample::case::check_target_error("--target", a.target)?;
+            crate::sample::case::check_max_levels("--max-levels", a.max_levels)?;
+            case.discretization.target_error = Some(a.target);
+            case.discretization.max_levels = a.max_levels;
+            if let Some(n) = a.max_dofs {
+                crate::sample::case::check_max_dofs("--max-dofs", n)?;
+                case.discretization.max_dofs = n;
+            }
         }
         None => case.discretization.interface_levels = interface_levels,
     }
@@ -1528,6 +1546,7 @@ pub fn egg_box_bench(case: &crate::sample::Case) -> Result<(PhaseCost, Vec<EggBo
             newton_iterations: r.newton_iterations,
             self_consistency_iterations: r.self_consistency_iterations,
             wall_s: t.elapsed().as_secs_f64(),
+            refinement_stop: r.refinement_stop.clone(),
         });
     }
     Ok((solver.phase_cost(), rows))
@@ -1612,6 +1631,10 @@ pub fn format_egg_box_bench(
             rows.len(),
             100.0 * largest
         );
+        for r in rows.iter().filter(|r| r.error_target_met == Some(false)) {
+            let why = r.refinement_stop.as_deref().unwrap_or("no reason recorded");
+            let _ = writeln!(s, "  not met at {:.4e} Pa: {why}", r.pressure);
+        }
     }
     let total: f64 = rows.iter().map(|r| r.wall_s).sum();
     let _ = write!(
@@ -1638,7 +1661,14 @@ mod tests {
     /// self-consistency iterations.
     #[test]
     fn egg_box_bench_counts_every_adaptive_level() {
-        let mut case = egg_box_case(Some((0.01, 2)), 0).unwrap();
+        let adaptive = |target, max_levels, max_dofs| {
+            Some(EggBoxAdaptive {
+                target,
+                max_levels,
+                max_dofs,
+            })
+        };
+        let mut case = egg_box_case(adaptive(0.01, 2, None), 0).unwrap();
         case.load.pressures = vec![1.0e3];
         let (phases, rows) = egg_box_bench(&case).unwrap();
         let r = &rows[0];
@@ -1650,8 +1680,18 @@ mod tests {
         assert_eq!(counted, r.newton_iterations);
         let text = format_egg_box_bench(&case, phases, &rows);
         assert!(text.contains("at 0 of 1 pressures"), "{text}");
-        assert!(egg_box_case(Some((0.0, 4)), 0).is_err());
-        assert!(egg_box_case(Some((0.01, 13)), 0).is_err());
+        // The point that missed the target says why: the levels ran out.
+        assert_eq!(r.refinement_stop.as_deref(), Some("max_levels"));
+        assert!(
+            text.contains("not met at 1.0000e3 Pa: max_levels"),
+            "{text}"
+        );
+        assert!(egg_box_case(adaptive(0.0, 4, None), 0).is_err());
+        assert!(egg_box_case(adaptive(0.01, 13, None), 0).is_err());
+        let e = egg_box_case(adaptive(0.01, 4, Some(8)), 0).unwrap_err();
+        assert!(e.to_string().contains("--max-dofs"), "{e}");
+        let c = egg_box_case(adaptive(0.01, 4, Some(400_000)), 0).unwrap();
+        assert_eq!(c.discretization.max_dofs, 400_000);
     }
 
     /// The effectivity summary counts only resolved points of converged

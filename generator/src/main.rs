@@ -167,6 +167,10 @@ enum Command {
         /// Refinement levels at most per pressure of the adaptive egg-box benchmark.
         #[arg(long, default_value_t = tcgen::bench::EGG_BOX_BENCH_MAX_LEVELS)]
         max_levels: usize,
+        /// Unknowns at most of a level of the adaptive egg-box benchmark
+        /// (default: the case's `max_dofs`, 200 000).
+        #[arg(long)]
+        max_dofs: Option<usize>,
         /// The egg-box benchmark on the case's fixed mesh (refined `--levels`
         /// times at the interface) instead of adaptive to `--target`.
         #[arg(long)]
@@ -1126,11 +1130,23 @@ fn main() -> ExitCode {
             degree,
             levels,
             max_levels,
+            max_dofs,
             fixed,
         } => {
             let run = || -> tcgen::Result<()> {
                 if only == Some(BenchPart::EggBox) {
-                    let adaptive = (!fixed).then_some((target, max_levels));
+                    if fixed && max_dofs.is_some() {
+                        return Err(tcgen::Error::invalid(
+                            "--max-dofs",
+                            max_dofs.unwrap_or_default(),
+                            "absent with --fixed (it bounds the adaptive levels)",
+                        ));
+                    }
+                    let adaptive = (!fixed).then_some(tcgen::bench::EggBoxAdaptive {
+                        target,
+                        max_levels,
+                        max_dofs,
+                    });
                     let case = tcgen::bench::egg_box_case(adaptive, levels)?;
                     let (phases, rows) = tcgen::bench::egg_box_bench(&case)?;
                     print!(

@@ -156,6 +156,15 @@ pub fn check_max_levels(field: &str, n: usize) -> Result<()> {
     Ok(())
 }
 
+/// A largest number of unknowns `n` of an adaptive level
+/// (`[discretization] max_dofs`, or a command's flag `field`): at least 16.
+pub fn check_max_dofs(field: &str, n: usize) -> Result<()> {
+    if n < 16 {
+        return Err(Error::invalid(field, n, "an integer ≥ 16"));
+    }
+    Ok(())
+}
+
 /// `[discretization]`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default = "DiscretizationSection::unset", deny_unknown_fields)]
@@ -814,13 +823,7 @@ impl Case {
                 "absent with homogenization.method = \"coupled\" or \"linearized\" (adaptivity runs the two-phase methods)",
             ));
         }
-        if d.max_dofs < 16 {
-            return Err(Error::invalid(
-                "discretization.max_dofs",
-                d.max_dofs,
-                "an integer ≥ 16",
-            ));
-        }
+        check_max_dofs("discretization.max_dofs", d.max_dofs)?;
         check_max_levels("discretization.max_levels", d.max_levels)?;
         self.contact.validate()?;
         if self.load.pressures.is_empty() {
