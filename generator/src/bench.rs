@@ -1467,8 +1467,8 @@ pub struct EggBoxBenchRow {
     pub self_consistency_iterations: usize,
     /// Wall time of the point (s).
     pub wall_s: f64,
-    /// Why the refinement ended where the target was not met
-    /// ([`crate::homogenize::path::PointResult::refinement_stop`]).
+    /// Why the refinement ended (adaptive runs; printed for the points that
+    /// missed the target: [`crate::homogenize::path::PointResult::refinement_stop`]).
     pub refinement_stop: Option<String>,
 }
 
