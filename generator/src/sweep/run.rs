@@ -287,8 +287,9 @@ pub fn run_sweep(cfg: &SweepConfig, output: &Path, options: &SweepOptions) -> Re
     let started = AtomicUsize::new(0);
     let checkpoint_time = Mutex::new(0.0);
     let ran = AtomicUsize::new(0);
-    let (paths_at_once, _) =
-        crate::solve::resources::concurrent_paths(&cfg.case, threads.min(todo.len()).max(1))?;
+    // The threads this run keeps busy: at most its pieces left to run.
+    let busy = threads.min(todo.len()).max(1);
+    let (paths_at_once, _) = crate::solve::resources::concurrent_paths(&cfg.case, busy)?;
     let run_task = |task: &Task| {
         if stop.load(Ordering::SeqCst) || options.deadline.is_some_and(|d| Instant::now() >= d) {
             stop.store(true, Ordering::SeqCst);
@@ -334,7 +335,7 @@ pub fn run_sweep(cfg: &SweepConfig, output: &Path, options: &SweepOptions) -> Re
         }
     };
     pool.install(|| {
-        if paths_at_once >= threads.min(todo.len()) {
+        if paths_at_once >= busy {
             todo.par_iter().for_each(run_task);
         } else {
             // Adaptive paths whose refined levels would not fit in memory
