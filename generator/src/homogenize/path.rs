@@ -81,8 +81,11 @@ pub struct PointResult {
     /// a touch) or the level came before [`min_adaptive_levels`], the reason
     /// follows in parentheses:
     /// `"max_levels (level 4's jump estimate met the target; the bulk's
-    /// estimated approach error 1.291 % exceeds 1 %)"`. Where the plain
-    /// jump's estimate met the target but the self-consistent jump's (with
+    /// estimated approach error 1.291 % exceeds 1 %)"`, or `"max_dofs: level L
+    /// would have N unknowns (level L−1: the plain jump's estimate met the
+    /// target; the self-consistent jump's is X %)"`. Where the plain
+    /// jump's estimate met the target on the last level allowed, or with a
+    /// tolerance not below the target, but the self-consistent jump's (with
     /// its fixed point's bound) does not: `"the plain jump's estimate met
     /// the target; the self-consistent jump's is 1.012 %"`.
     /// `None` on a fixed mesh.
@@ -576,6 +579,37 @@ impl<'a> PathSolver<'a> {
         ))
     }
 
+    /// The self-consistency iterations on an adaptive level after its plain
+    /// solve (`plain`, whose jumps' estimate is `estimate`), and the
+    /// self-consistent jumps' estimate: the plain one scaled by the ratio of
+    /// the jumps, plus the bound on the fixed point's residual at which the
+    /// iterations stopped (the case's tolerance, the share
+    /// [`SELF_CONSISTENCY_ESTIMATE_SHARE`] of the estimate, or at a step of
+    /// `F`, the step's).
+    fn self_consistent_level(
+        &mut self,
+        pressure: f64,
+        fluxes: &[f64],
+        plain: &[PointResult],
+        estimate: Option<&[f64]>,
+    ) -> Result<(Vec<PointResult>, Option<Vec<f64>>)> {
+        let solved = self.solve_fluxes_on_mesh(pressure, fluxes, false, estimate)?;
+        let tolerance = self.case.homogenization.tolerance;
+        let estimate = estimate.map(|e| {
+            let mut e = e.to_vec();
+            for (i, (r, p)) in solved.iter().zip(plain).enumerate() {
+                if p.jump != 0.0 && r.converged {
+                    let residual = (tolerance * r.jump.abs())
+                        .max(SELF_CONSISTENCY_ESTIMATE_SHARE * e[i])
+                        .max(self.step_bounds.get(i).copied().flatten().unwrap_or(0.0));
+                    e[i] = e[i] * (r.jump / p.jump).abs() + residual;
+                }
+            }
+            e
+        });
+        Ok((solved, estimate))
+    }
+
     /// Two-phase (self-consistent) jumps at one pressure for several fluxes
     /// (W/m², > 0), on the case's mesh, or adaptively refined from it until
     /// the estimated error of every flux's jump meets
@@ -611,7 +645,11 @@ impl<'a> PathSolver<'a> {
     /// estimate). The levels run the plain two-phase identification (one
     /// mechanical and one thermal phase); with the self-consistent method
     /// its iterations then run on the final mesh, and the estimate is
-    /// scaled by the ratio of the final to the plain jump.
+    /// scaled by the ratio of the final to the plain jump, plus the fixed
+    /// point's bound ([`PathSolver::self_consistent_level`]). They run on
+    /// the level whose plain jumps met the target; where that estimate
+    /// misses it, the refinement goes on (unless the case's tolerance,
+    /// which no level lowers, is not below the target).
     fn adapt(
         &mut self,
         pressure: f64,
@@ -623,11 +661,7 @@ impl<'a> PathSolver<'a> {
         let d = &case.discretization;
         let slave = slave_body(case);
         let trace = std::env::var_os("TCGEN_ADAPT_TRACE").is_some();
-        let mut iterations: usize = coarse
-            .iter()
-            .map(|r| r.newton_iterations)
-            .max()
-            .unwrap_or(0);
+        let mut iterations = max_newton_iterations(&coarse);
         let mut best = coarse;
         let mut diffs: Vec<Vec<f64>> = Vec::new();
         let mut estimate: Option<Vec<f64>> = None;
@@ -687,6 +721,15 @@ impl<'a> PathSolver<'a> {
         };
         let mut bulk = bulk_of(&self.model, &best);
         let mut fine: Option<PathSolver<'a>> = None;
+        // With the self-consistent method, its results on the last level
+        // kept and their estimate, where its iterations ran there in the
+        // loop (the plain jumps met the target; `best` keeps the plain ones,
+        // which the levels compare).
+        let self_consistent = case.homogenization.method == Method::TwoPhaseSelfConsistent;
+        let mut consistent: Option<(Vec<PointResult>, Option<Vec<f64>>)> = None;
+        // Why the last level, whose plain jumps met the target, reports it
+        // missed.
+        let mut consistent_missed: Option<String> = None;
         for level in 1..=d.max_levels {
             let (src, src_bodies, src_newton) = match fine.as_mut() {
                 Some(f) => (&mut f.model, &f.bodies, Some(&mut f.newton)),
@@ -848,11 +891,7 @@ impl<'a> PathSolver<'a> {
                 };
                 write_two_level_system(src, &mut next.model, std::path::Path::new(&dir), level)?;
             }
-            iterations += solved
-                .iter()
-                .map(|r| r.newton_iterations)
-                .max()
-                .unwrap_or(0);
+            iterations += max_newton_iterations(&solved);
             let diff: Vec<f64> = solved
                 .iter()
                 .zip(&best)
@@ -874,6 +913,7 @@ impl<'a> PathSolver<'a> {
             let in_regime = regime.map_or(usize::MAX, |s| (diffs.len() + 1).saturating_sub(s));
             diffs.push(diff);
             best = solved;
+            consistent = None;
             if trace {
                 eprintln!(
                     "adapt {pressure:e} Pa: level {level}, {} unknowns, levels {:?}, jump {:?}, estimate {:?}, contact {:.5}, fitted regime {regime:?}; built in {built:.1} s (marks {marked:.1} s, refinement {:.1} s, previous level released {released:.1} s, model {:.1} s, transfer {:.1} s), solved in {:.1} s; the process's peak resident memory so far {}",
@@ -928,13 +968,48 @@ impl<'a> PathSolver<'a> {
                     hidden = Some(m);
                 }
             }
+            if met && self_consistent {
+                // The self-consistent jumps' estimate adds the fixed point's
+                // bound to the plain one: where it misses the target, and the
+                // bound that refinement cannot lower (the case's tolerance)
+                // is below it, the refinement goes on (the iterations
+                // restore the plain state, from which the next level starts).
+                // The previous level is not needed any more: freed first, so
+                // that the iterations reuse its memory.
+                drop(fine.take());
+                let solved = next.self_consistent_level(pressure, fluxes, &best, Some(&est));
+                self.absorb_cost(&mut next);
+                let (solved, e) = solved?;
+                iterations += max_newton_iterations(&solved);
+                let tolerance = case.homogenization.tolerance;
+                let missed = solved
+                    .iter()
+                    .zip(e.iter().flatten())
+                    .filter(|(r, e)| r.converged && **e > target * r.jump.abs())
+                    .map(|(r, e)| e / r.jump.abs())
+                    .fold(None, |m: Option<f64>, x| Some(m.map_or(x, |m| m.max(x))));
+                if let Some(missed) = missed {
+                    let why = format!(
+                        "the plain jump's estimate met the target; the self-consistent jump's is {:.3} %",
+                        100.0 * missed
+                    );
+                    if level < d.max_levels && tolerance < target {
+                        withheld = Some(format!("level {level}: {why}"));
+                        met = false;
+                        next.model.prepare_contact()?;
+                    } else {
+                        consistent_missed = Some(why);
+                    }
+                }
+                consistent = Some((solved, e));
+            }
             if trace && let Some(w) = &withheld {
                 eprintln!("adapt {pressure:e} Pa: {w}");
             }
             self.report_level(|| {
                 let jump = (best[0].jump, est[0] / best[0].jump.abs());
                 let stop = if met {
-                    Some("target met".into())
+                    Some(consistent_missed.clone().unwrap_or("target met".into()))
                 } else if level == d.max_levels {
                     Some(match &withheld {
                         Some(w) => format!("max_levels ({w})"),
@@ -952,34 +1027,24 @@ impl<'a> PathSolver<'a> {
                 break;
             }
         }
-        if case.homogenization.method == Method::TwoPhaseSelfConsistent {
+        // The self-consistency iterations on the final level, unless they ran
+        // on it in the loop.
+        if self_consistent && consistent.is_none() {
             let last = fine.as_mut().unwrap_or(self);
-            let plain = best;
-            let solved = last.solve_fluxes_on_mesh(pressure, fluxes, false, estimate.as_deref());
+            let solved = last.self_consistent_level(pressure, fluxes, &best, estimate.as_deref());
             if let Some(f) = fine.as_mut() {
                 self.absorb_cost(f);
             }
-            best = solved?;
-            iterations += best.iter().map(|r| r.newton_iterations).max().unwrap_or(0);
+            let solved = solved?;
+            iterations += max_newton_iterations(&solved.0);
+            consistent = Some(solved);
+        }
+        if let Some((solved, e)) = consistent {
+            best = solved;
+            estimate = e;
             if let Some(f) = &fine {
                 // The slope measured on the final level, for the next pressure.
                 self.self_consistency_slope = f.self_consistency_slope;
-            }
-            let tolerance = case.homogenization.tolerance;
-            let bounds = fine.as_ref().unwrap_or(&*self).step_bounds.clone();
-            for (i, (r, p)) in best.iter().zip(&plain).enumerate() {
-                if let Some(e) = estimate.as_mut()
-                    && p.jump != 0.0
-                    && r.converged
-                {
-                    // The discretization's part, and the bound on the
-                    // fixed point's residual at which the iterations stopped
-                    // (at a step of `F`, the step's).
-                    let residual = (tolerance * r.jump.abs())
-                        .max(SELF_CONSISTENCY_ESTIMATE_SHARE * e[i])
-                        .max(bounds.get(i).copied().flatten().unwrap_or(0.0));
-                    e[i] = e[i] * (r.jump / p.jump).abs() + residual;
-                }
             }
         }
         // The fields of the mesh of `best`.
@@ -1508,6 +1573,16 @@ pub const FITTED_LEVELS: usize = 3;
 /// direction) for the bound below which [`surface_misfit_marks`] samples a face element's
 /// error: the refined levels' quasi-interpolants and the samples between the fits' own.
 pub const MISFIT_BOUND_MARGIN: f64 = 2.0;
+
+/// The Newton iterations of a solve at one pressure for several fluxes: the
+/// most any flux spent (they share the mechanical phase).
+fn max_newton_iterations(results: &[PointResult]) -> usize {
+    results
+        .iter()
+        .map(|r| r.newton_iterations)
+        .max()
+        .unwrap_or(0)
+}
 
 /// Whether a failed solve ended on a state the model cannot evaluate (a residual
 /// that is not finite): Newton's failure at a constant load (a level's re-solve

@@ -568,6 +568,91 @@ fn self_consistency_stops_at_a_share_of_the_estimate_and_reports_it() {
     );
 }
 
+/// Where the plain jump's estimate meets the target but the self-consistent
+/// jump's does not (it adds the bound at which the iterations stopped, here
+/// the case's loose tolerance), the refinement goes on while another level
+/// can lower it: at 30 kPa the plain estimate of level 4 is 0.44 %, below
+/// 1 %, so that with the tolerance 1e-6 the point stops there; with 0.008
+/// the self-consistent estimate is 1.24 % on level 4, and the point meets
+/// the target on a finer level. With a tolerance above the target no level
+/// can meet it: the point stops where the plain jump met it, flagged.
+#[test]
+fn a_self_consistent_estimate_above_the_target_refines_further() {
+    let with = |tolerance: &str, discretization: &str| {
+        let adaptive = format!(
+            "target_error = 0.01\n{discretization}\n[homogenization]\ntolerance = {tolerance}"
+        );
+        solve(&case("[3.0e4]", &adaptive)).remove(0)
+    };
+    let tight = with("1.0e-6", "");
+    let loose = with("0.008", "");
+    let beyond = with("0.02", "");
+    // Where the next level exceeds `max_dofs` (level 5 has 2412 unknowns),
+    // the level whose plain jump met the target stays, with its
+    // self-consistent results, and is flagged.
+    let bounded = with("0.008", "max_dofs = 2400");
+    for r in [&tight, &loose, &beyond, &bounded] {
+        println!(
+            "levels {:?}, {} unknowns: jump {:.6} K, estimate {:.3} %, met {:?}, stop {:?}",
+            r.levels,
+            r.dofs,
+            r.jump,
+            100.0 * r.jump_error.unwrap_or(f64::NAN) / r.jump,
+            r.error_target_met,
+            r.refinement_stop
+        );
+        assert!(r.converged, "{:?}", r.status);
+    }
+    let relative = |r: &PointResult| r.jump_error.expect("an estimate") / r.jump.abs();
+    assert_eq!(tight.error_target_met, Some(true));
+    assert!(relative(&tight) <= 0.01);
+    // The tight tolerance's level has a plain estimate that a tolerance of
+    // 0.008 pushes above the target.
+    assert!(relative(&tight) > 0.002, "{}", relative(&tight));
+    assert_eq!(
+        loose.error_target_met,
+        Some(true),
+        "{:?}",
+        loose.refinement_stop
+    );
+    assert_eq!(loose.refinement_stop.as_deref(), Some("target met"));
+    assert!(relative(&loose) <= 0.01, "{}", relative(&loose));
+    assert!(
+        loose.levels.iter().max() > tight.levels.iter().max(),
+        "levels {:?} against {:?}",
+        loose.levels,
+        tight.levels
+    );
+    // The two jumps agree within the loose run's estimate.
+    assert!(
+        (loose.jump - tight.jump).abs() <= loose.jump_error.unwrap(),
+        "{} against {}",
+        loose.jump,
+        tight.jump
+    );
+    assert_eq!(beyond.error_target_met, Some(false));
+    assert_eq!((beyond.dofs, &beyond.levels), (tight.dofs, &tight.levels));
+    let stop = beyond.refinement_stop.as_deref().unwrap_or("");
+    assert!(
+        stop.starts_with("the plain jump's estimate met the target; the self-consistent jump's is"),
+        "{stop}"
+    );
+    assert_eq!(bounded.error_target_met, Some(false));
+    assert_eq!((bounded.dofs, &bounded.levels), (tight.dofs, &tight.levels));
+    assert!(relative(&bounded) > 0.01, "{}", relative(&bounded));
+    let stop = bounded.refinement_stop.as_deref().unwrap_or("");
+    assert!(
+        stop.starts_with(&format!(
+            "max_dofs: level {} would have ",
+            tight.levels[0] + 1
+        )) && stop.contains(&format!(
+            "(level {}: the plain jump's estimate met the target; the self-consistent jump's is",
+            tight.levels[0]
+        )),
+        "{stop}"
+    );
+}
+
 /// The relative difference of two converged results' jumps (the secant
 /// update's against the plain one's).
 fn converged_jump_difference(s: &PointResult, p: &PointResult) -> f64 {
