@@ -193,6 +193,13 @@ pub struct LevelReport {
     /// Why the refinement stops at this level, if it does: `"target met"`, a
     /// failure (the previous level is kept), `max_dofs`, or `max_levels`.
     pub stop: Option<String>,
+    /// Why the refinement goes on although the level's jump estimate met
+    /// the target, if it does: a 3D estimate's levels
+    /// ([`min_adaptive_levels`]), the bulk's approach error, a face that may
+    /// hide a touch, or the self-consistent jump's estimate (the reason that
+    /// `refinement_stop` gives in parentheses should the refinement then
+    /// stop without meeting the target).
+    pub goes_on: Option<String>,
 }
 
 /// A function that sees every [`LevelReport`]; shared by the points that run
@@ -204,6 +211,8 @@ impl std::fmt::Display for LevelReport {
     /// (target 1.00 %), 21.3 s, peak memory 1.4 GB"`: the jump is the plain
     /// two-phase one the estimate is made on, which the self-consistent
     /// iteration then corrects; the memory is the process's peak so far.
+    /// Then `"; stop: …"` where the refinement stops, or `"; goes on: …"`
+    /// where it goes on although the estimate met the target.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
@@ -222,9 +231,10 @@ impl std::fmt::Display for LevelReport {
         if let Some(bytes) = self.peak_memory {
             write!(f, ", peak memory {}", format_bytes(bytes as f64))?;
         }
-        match &self.stop {
-            Some(stop) => write!(f, "; stop: {stop}"),
-            None => Ok(()),
+        match (&self.stop, &self.goes_on) {
+            (Some(stop), _) => write!(f, "; stop: {stop}"),
+            (None, Some(why)) => write!(f, "; goes on: {why}"),
+            (None, None) => Ok(()),
         }
     }
 }
@@ -746,6 +756,7 @@ impl<'a> PathSolver<'a> {
                 seconds: clock.elapsed().as_secs_f64(),
                 peak_memory: process_memory("VmHWM:"),
                 stop,
+                goes_on: None,
             };
             // `src` is prepared at its solved state: by `fitted` above (the
             // case mesh) or below (the previous level).
@@ -1018,7 +1029,11 @@ impl<'a> PathSolver<'a> {
                 } else {
                     None
                 };
-                level_report(best[0].dofs, Some(jump), stop)
+                let goes_on = withheld.clone().filter(|_| stop.is_none());
+                LevelReport {
+                    goes_on,
+                    ..level_report(best[0].dofs, Some(jump), stop)
+                }
             });
             estimate = Some(est);
             fine = Some(next);

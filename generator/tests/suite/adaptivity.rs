@@ -585,7 +585,18 @@ fn a_self_consistent_estimate_above_the_target_refines_further() {
         solve(&case("[3.0e4]", &adaptive)).remove(0)
     };
     let tight = with("1.0e-6", "");
-    let loose = with("0.008", "");
+    let (reports, observer) = level_recorder();
+    let loose = tcgen::homogenize::solve_case_observed(
+        &case(
+            "[3.0e4]",
+            "target_error = 0.01\n[homogenization]\ntolerance = 0.008",
+        ),
+        None,
+        |_| {},
+        Some(observer),
+    )
+    .unwrap()
+    .remove(0);
     let beyond = with("0.02", "");
     // Where the next level exceeds `max_dofs` (level 5 has 2412 unknowns),
     // the level whose plain jump met the target stays, with its
@@ -616,6 +627,21 @@ fn a_self_consistent_estimate_above_the_target_refines_further() {
         loose.refinement_stop
     );
     assert_eq!(loose.refinement_stop.as_deref(), Some("target met"));
+    // The level whose plain jump met the target says why the refinement
+    // went on.
+    let reports = reports.lock().unwrap().clone();
+    let kept = reports
+        .iter()
+        .find(|l| l.level == tight.levels[0])
+        .expect("the tight run's last level");
+    let why = kept.goes_on.as_deref().unwrap_or("");
+    assert!(
+        why.starts_with(&format!(
+            "level {}: the plain jump's estimate met the target; the self-consistent jump's is",
+            tight.levels[0]
+        )) && kept.stop.is_none(),
+        "{kept}"
+    );
     assert!(relative(&loose) <= 0.01, "{}", relative(&loose));
     assert!(
         loose.levels.iter().max() > tight.levels.iter().max(),
@@ -1099,6 +1125,13 @@ fn a_3d_point_needs_three_levels_before_its_estimate_meets_the_target() {
     let (_, estimate_2) = level_2.jump.expect("level 2 solved");
     assert!(estimate_2 <= 0.2, "level 2's estimate {estimate_2}");
     assert!(level_2.stop.is_none(), "{level_2}");
+    // The level says why the refinement goes on.
+    let why = "level 2's jump estimate met the target; a 3D estimate may end the refinement from level 3 on";
+    assert_eq!(level_2.goes_on.as_deref(), Some(why), "{level_2}");
+    assert!(
+        level_2.to_string().ends_with(&format!("; goes on: {why}")),
+        "{level_2}"
+    );
     assert_eq!(r.levels, [3, 3], "{:?}", r.refinement_stop);
     assert_eq!(r.refinement_stop.as_deref(), Some("target met"));
     assert_eq!(r.error_target_met, Some(true));
@@ -1155,6 +1188,7 @@ fn a_3d_path_reports_its_levels_and_points_as_they_end() {
                 assert!(l.dofs > own[i - 1].dofs, "{l}");
             }
             assert_eq!(l.stop.is_some(), i + 1 == own.len(), "{l}");
+            assert!(l.stop.is_none() || l.goes_on.is_none(), "{l}");
         }
         let last = own.last().unwrap();
         assert_eq!(last.dofs, r.dofs);
