@@ -737,8 +737,8 @@ impl<'a> PathSolver<'a> {
         // which the levels compare).
         let self_consistent = case.homogenization.method == Method::TwoPhaseSelfConsistent;
         let mut consistent: Option<(Vec<PointResult>, Option<Vec<f64>>)> = None;
-        // Why the last level, whose plain jumps met the target, reports it
-        // missed.
+        // Why the last level reports the target missed although its plain
+        // jumps met it (no further level may run).
         let mut consistent_missed: Option<String> = None;
         for level in 1..=d.max_levels {
             let (src, src_bodies, src_newton) = match fine.as_mut() {

@@ -578,19 +578,19 @@ fn self_consistency_stops_at_a_share_of_the_estimate_and_reports_it() {
 /// can meet it: the point stops where the plain jump met it, flagged.
 #[test]
 fn a_self_consistent_estimate_above_the_target_refines_further() {
-    let with = |tolerance: &str, discretization: &str| {
-        let adaptive = format!(
+    let adaptive = |tolerance: &str, discretization: &str| {
+        let extra = format!(
             "target_error = 0.01\n{discretization}\n[homogenization]\ntolerance = {tolerance}"
         );
-        solve(&case("[3.0e4]", &adaptive)).remove(0)
+        case("[3.0e4]", &extra)
+    };
+    let with = |tolerance: &str, discretization: &str| {
+        solve(&adaptive(tolerance, discretization)).remove(0)
     };
     let tight = with("1.0e-6", "");
     let (reports, observer) = level_recorder();
     let loose = tcgen::homogenize::solve_case_observed(
-        &case(
-            "[3.0e4]",
-            "target_error = 0.01\n[homogenization]\ntolerance = 0.008",
-        ),
+        &adaptive("0.008", ""),
         None,
         |_| {},
         Some(observer),
