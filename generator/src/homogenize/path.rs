@@ -998,12 +998,9 @@ impl<'a> PathSolver<'a> {
                     .zip(e.iter().flatten())
                     .filter(|(r, e)| r.converged && **e > target * r.jump.abs())
                     .map(|(r, e)| e / r.jump.abs())
-                    .fold(None, |m: Option<f64>, x| Some(m.map_or(x, |m| m.max(x))));
+                    .reduce(f64::max);
                 if let Some(missed) = missed {
-                    let why = format!(
-                        "the plain jump's estimate met the target; the self-consistent jump's is {:.3} %",
-                        100.0 * missed
-                    );
+                    let why = self_consistent_estimate_missed(missed);
                     if level < d.max_levels && tolerance < target {
                         withheld = Some(format!("level {level}: {why}"));
                         met = false;
@@ -1081,10 +1078,7 @@ impl<'a> PathSolver<'a> {
             // estimate, with its fixed point's bound, may not.
             if let Some(e) = r.jump_error.filter(|e| met && *e > target * r.jump.abs()) {
                 r.error_target_met = Some(false);
-                r.refinement_stop = Some(format!(
-                    "the plain jump's estimate met the target; the self-consistent jump's is {:.3} %",
-                    100.0 * e / r.jump.abs()
-                ));
+                r.refinement_stop = Some(self_consistent_estimate_missed(e / r.jump.abs()));
             }
         }
         Ok(best)
@@ -1588,6 +1582,15 @@ pub const FITTED_LEVELS: usize = 3;
 /// direction) for the bound below which [`surface_misfit_marks`] samples a face element's
 /// error: the refined levels' quasi-interpolants and the samples between the fits' own.
 pub const MISFIT_BOUND_MARGIN: f64 = 2.0;
+
+/// Why a point missed its target where its plain jump's estimate met it and
+/// the self-consistent jump's, `relative` to the jump, does not.
+fn self_consistent_estimate_missed(relative: f64) -> String {
+    format!(
+        "the plain jump's estimate met the target; the self-consistent jump's is {:.3} %",
+        100.0 * relative
+    )
+}
 
 /// The Newton iterations of a solve at one pressure for several fluxes: the
 /// most any flux spent (they share the mechanical phase).
