@@ -66,7 +66,7 @@ def test_meshio_reads_every_file_and_the_stress_balances(tmp_path):
         assert [c.type for c in iface.cells] == ["line"]
         n = len(iface.points)
         assert iface.cells[0].data.shape == (n - 1, 2)
-        for name in ["contact_pressure", "weighted_gap", "lumped_area", "interface_heat_flux", "thermal_lumped_area"]:
+        for name in ["contact_pressure", "weighted_gap", "lumped_area", "interface_heat_flux", "thermal_lumped_area", "temperature_jump"]:
             assert iface.point_data[name].size == n, name
         force = np.sum(iface.point_data["contact_pressure"] * iface.point_data["lumped_area"])
         assert abs(force / width - pressure) < 3e-3 * pressure

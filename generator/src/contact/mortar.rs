@@ -975,27 +975,126 @@ impl ContactInterface {
         self.state.clear();
     }
 
-    /// Projects every integration point in the current configuration and
-    /// evaluates gap and jump, differentiated as far as the phase `needs`.
-    /// `state` holds `dim + 1` components per node.
-    pub fn prepare(&mut self, state: &[f64], needs: Needs) -> Result<()> {
+    /// The slave and master face control points in the configuration
+    /// `state` (`dim + 1` components per node).
+    fn current_positions(&self, state: &[f64]) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
         let (dim, nf) = (self.dim, self.dim + 1);
         let cur = |nodes: &[usize], refx: &[[f64; 3]]| -> Vec<[f64; 3]> {
             nodes
                 .iter()
                 .zip(refx)
                 .map(|(&n, x)| {
-                    let mut c = [0.0; 3];
-                    for k in 0..dim {
-                        c[k] = x[k] + state[n * nf + k];
-                    }
-                    c
+                    std::array::from_fn(|k| {
+                        if k < dim {
+                            x[k] + state[n * nf + k]
+                        } else {
+                            0.0
+                        }
+                    })
                 })
                 .collect()
         };
-        let master_cur = cur(&self.master_nodes, &self.master_ref);
-        let slave_cur = cur(&self.slave_nodes, &self.slave_ref);
-        if dim == 3 {
+        (
+            cur(&self.slave_nodes, &self.slave_ref),
+            cur(&self.master_nodes, &self.master_ref),
+        )
+    }
+
+    /// The lumped temperature jump `⟨N^I ϑc⟩ / ⟨N^I⟩` (4.1, 4.8) of every
+    /// slave node over its whole support on the slave surface, in the
+    /// configuration and at the temperatures of `state` (the state the
+    /// contact was last prepared at): for output, where
+    /// [`ContactInterface::weighted_jump`] is the thermal contact's own
+    /// measure. While the thermal phase integrates over the contact zone
+    /// ([`ContactInterface::freeze`]) the zone's points reach only the nodes
+    /// in contact; the kept mechanical points are then projected here, so
+    /// that the jump is defined at every node, across the gaps too. A
+    /// periodic copy takes its node's value.
+    pub fn surface_jumps(&self, state: &[f64]) -> Result<Vec<f64>> {
+        let (points, jumps): (&[SlavePoint], Vec<f64>) = match &self.mechanical_points {
+            None => (
+                &self.points,
+                self.state.iter().map(|s| s.jump.value).collect(),
+            ),
+            Some(set) => (&set.points, self.point_jumps(state, &set.points)?),
+        };
+        let n = self.n_slave();
+        let (mut num, mut den) = (vec![0.0; n], vec![0.0; n]);
+        for (sp, jump) in points.iter().zip(jumps) {
+            for (&c, &b) in sp.conn.iter().zip(&sp.basis) {
+                num[self.copy_of[c]] += sp.weight * b * jump;
+                den[self.copy_of[c]] += sp.weight * b;
+            }
+        }
+        Ok((0..n)
+            .map(|i| num[self.copy_of[i]] / den[self.copy_of[i]])
+            .collect())
+    }
+
+    /// The temperature jump `ϑc` (4.1) at each of `points`, projected onto
+    /// the master in the configuration `state` (each from no earlier guess).
+    fn point_jumps(&self, state: &[f64], points: &[SlavePoint]) -> Result<Vec<f64>> {
+        let (slave_cur, master_cur) = self.current_positions(state);
+        let at = |sp: &SlavePoint| -> [f64; 3] {
+            let mut xs = [0.0; 3];
+            for (a, &c) in sp.conn.iter().enumerate() {
+                for (k, x) in xs.iter_mut().enumerate() {
+                    *x += sp.basis[a] * slave_cur[c][k];
+                }
+            }
+            xs
+        };
+        let face = &*self.master_face;
+        let pieces = FacePieces::new(face, &master_cur);
+        if self.dim == 3 {
+            let surface = MasterSurface {
+                face,
+                points: &master_cur,
+                pieces: Some(&pieces),
+            };
+            let search = MasterSearch::new(&surface, [self.period, self.period]);
+            return points
+                .par_iter()
+                .map(|sp| {
+                    let xs = at(sp);
+                    let pr = match sp.piece {
+                        Some(piece) => {
+                            projection3d::project_on_element(&surface, &search, xs, piece)
+                        }
+                        None => projection3d::project(&surface, &search, xs, None)?,
+                    };
+                    Ok(self
+                        .surface_point_state(state, sp, pr, Needs::Values)
+                        .jump
+                        .value)
+                })
+                .collect();
+        }
+        let curve = MasterCurve {
+            face,
+            points: &master_cur,
+            pieces: Some(&pieces),
+        };
+        let samples = MasterSamples::new(&curve);
+        points
+            .iter()
+            .map(|sp| {
+                let xs = at(sp);
+                let pr = project(&curve, [xs[0], xs[1]], None, self.period, &samples)?;
+                Ok(self
+                    .point_state(state, (&sp.basis, &sp.conn), pr, Needs::Values)
+                    .jump
+                    .value)
+            })
+            .collect()
+    }
+
+    /// Projects every integration point in the current configuration and
+    /// evaluates gap and jump, differentiated as far as the phase `needs`.
+    /// `state` holds `dim + 1` components per node.
+    pub fn prepare(&mut self, state: &[f64], needs: Needs) -> Result<()> {
+        let (slave_cur, master_cur) = self.current_positions(state);
+        if self.dim == 3 {
             return self.prepare_3d(state, needs, &slave_cur, &master_cur);
         }
         // The segmentation depends on the positions only: it is kept while

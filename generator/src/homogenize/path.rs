@@ -574,7 +574,7 @@ impl<'a> PathSolver<'a> {
             .face_mean_temperature(sface.0, self.model.dim - 1, sface.1);
         if self.capture {
             // One monolithic state: every field from it.
-            self.fields = Some(Fields::sample(&self.model));
+            self.fields = Some(Fields::sample(&self.model)?);
         }
         let interface = measure(&self.model, self.alpha)?;
         Ok(self.result(
@@ -1424,7 +1424,10 @@ impl<'a> PathSolver<'a> {
         let saved = self.model.save();
         // The mechanical phase's equilibrium: its displacements at the
         // temperatures it was solved with.
-        let mechanical = self.capture.then(|| Fields::sample(&self.model));
+        let mechanical = self
+            .capture
+            .then(|| Fields::sample(&self.model))
+            .transpose()?;
         self.model.set_coupling(Coupling::Thermal)?;
         self.model.freeze_body_conductivity(UPPER, temps[0]);
         self.model.freeze_body_conductivity(LOWER, temps[1]);
@@ -1445,7 +1448,7 @@ impl<'a> PathSolver<'a> {
         };
         // The thermal phase's own state (with its frozen conductivities).
         let fields = match (mechanical, &result) {
-            (Some(m), Ok(_)) => Some(Fields::two_phase(m, Fields::sample(&self.model))),
+            (Some(m), Ok(_)) => Some(Fields::sample(&self.model).map(|t| Fields::two_phase(m, t))),
             _ => None,
         };
         // Back to the mechanical phase.
@@ -1457,7 +1460,7 @@ impl<'a> PathSolver<'a> {
             theta_s: ts,
             iterations: result?,
             interface,
-            fields,
+            fields: fields.transpose()?,
         })
     }
 }

@@ -112,7 +112,7 @@ fn case(degree: usize, lateral: LateralCondition, top: TopLateral) -> Case {
 }
 
 /// The mechanical phase solved at `pressure` (Pa), with a partial active set.
-fn mechanical(case: &Case, pressure: f64) -> Model {
+pub(crate) fn mechanical(case: &Case, pressure: f64) -> Model {
     let (mu, ml) = case.materials().unwrap();
     let geo = case_geometry(case).unwrap();
     let bc = ThermalBc {
@@ -135,7 +135,7 @@ fn mechanical(case: &Case, pressure: f64) -> Model {
 
 /// The thermal phase on the mechanical state (conductivity frozen at θ̄c),
 /// solved under the flux `h` (W/m²) so that the temperatures vary.
-fn thermal(model: &mut Model, pressure: f64, h: f64) {
+pub(crate) fn thermal(model: &mut Model, pressure: f64, h: f64) {
     model.set_coupling(Coupling::Thermal).unwrap();
     model.freeze_conductivity(293.15);
     model.set_path([pressure, 0.0], [pressure, h]);

@@ -25,12 +25,13 @@ fn case(method: Method, pressures: &[f64]) -> Case {
 }
 
 /// The point data of the interface file (besides `displacement`).
-const INTERFACE_ARRAYS: [&str; 5] = [
+const INTERFACE_ARRAYS: [&str; 6] = [
     "contact_pressure",
     "weighted_gap",
     "lumped_area",
     "interface_heat_flux",
     "thermal_lumped_area",
+    "temperature_jump",
 ];
 
 fn out_dir(name: &str) -> PathBuf {
@@ -469,6 +470,7 @@ fn three_d_files_are_hexahedra_and_quadrilaterals_and_balance() {
                 v.array("connectivity")[..4],
                 [0.0, 1.0, nu as f64 + 1.0, nu as f64]
             );
+            assert!(!v.0.contains("NaN") && !v.0.contains("inf"), "interface");
             for name in INTERFACE_ARRAYS {
                 assert_eq!(v.array(name).len(), nu * nv, "{name}");
             }
@@ -494,5 +496,111 @@ fn three_d_files_are_hexahedra_and_quadrilaterals_and_balance() {
         }
         assert!(dir.join("series.pvd").is_file());
         std::fs::remove_dir_all(&dir).ok();
+    }
+}
+
+/// The interface's `temperature_jump` of Fig. 13a's flat resistive
+/// interface (`kθ = |h̄| / 10 K`, `α = 0`: a uniform micro jump of 10 K):
+/// the macroscopic jump at every written point, in 2D and 3D, with either
+/// body the master (`ϑc = θ_s − θ_m`: its sign follows the slave).
+#[test]
+fn the_interface_jump_of_a_resistive_interface_is_its_micro_jump() {
+    use tcgen::verify::homogenization::{Sample, constitutive, flat};
+    for dimension in [2, 3] {
+        for master in ["lower", "upper"] {
+            let s = Sample {
+                width: 1.0e-5,
+                height: 1.0e-5,
+                lateral: "linear",
+                upper: flat(),
+                lower: flat(),
+                material:
+                    "youngs_modulus = 1.0e11\nthermal_expansion = 0.0\nconductivity_slope = 0.0\n"
+                        .into(),
+                elements: ([2, 2], [2, 2]),
+                dimension,
+                contact: constitutive(1.0e5, 0.0),
+                pressures: vec![1.0e5],
+                flux: 1.0e6,
+                method: "two-phase",
+                master,
+                ..Sample::default()
+            };
+            let dir = out_dir(&format!("resistive-{dimension}d-{master}"));
+            let r = solve_into(&s.case().unwrap(), &dir);
+            assert!((r[0].jump - 10.0).abs() < 1e-5, "{}", r[0].jump);
+            let v = Vtu::read(&dir.join("p000_interface.vtu"));
+            let sign = if master == "lower" { 1.0 } else { -1.0 };
+            let worst = v
+                .array("temperature_jump")
+                .iter()
+                .map(|j| (sign * j - r[0].jump).abs() / r[0].jump)
+                .fold(0.0, f64::max);
+            println!(
+                "{dimension}D, {master} master: temperature_jump within {worst:.1e} of the jump"
+            );
+            assert!(worst < 1e-6, "{dimension}D {master}: {worst:e}");
+            std::fs::remove_dir_all(&dir).ok();
+        }
+    }
+}
+
+/// While the thermal phase integrates over the contact zone, the
+/// interface's jump comes from the mechanical points, projected again
+/// ([`ContactInterface::surface_jumps`]); at the same state it equals the
+/// jump the live mechanical points give once the zone is undone, in 2D
+/// (the Sect. 5.7 sample, where the zone is the default) and 3D (the egg
+/// box with `thermal_zone = true`; the two paths run the same projections
+/// and agree to the bit). With the augmented Lagrangian thermal constraint
+/// a node whose whole support is in contact has no jump (2D), and the
+/// jumps across the gaps exceed those in contact.
+#[test]
+fn the_interface_jump_over_the_contact_zone_is_the_whole_surfaces() {
+    use tcgen::bulk::Coupling;
+    use tcgen::sample::case::{LateralCondition, TopLateral};
+    use tcgen::solve::NonlinearProblem;
+    let mut c3 = case_3d(Method::TwoPhase, &[1.0e5]);
+    c3.contact.thermal_zone = Some(true);
+    for (label, case, pressure) in [
+        ("2D", case(Method::TwoPhase, &[1.0e5]), 1.0e5),
+        ("3D", c3, 1.0e5),
+    ] {
+        let mut case = case;
+        case.sample.lateral = LateralCondition::Periodic;
+        case.sample.top_lateral = TopLateral::Fixed;
+        let mut model = crate::tangent_symmetry::mechanical(&case, pressure);
+        crate::tangent_symmetry::thermal(&mut model, pressure, 1.0e6);
+        let c = model.contact.as_ref().unwrap();
+        // On the zone: the nodes whose supports it misses have no thermal
+        // lumped area, and no jump of their own.
+        let off = (0..c.n_slave())
+            .filter(|&i| c.lumped_area[i] == 0.0)
+            .count();
+        assert!(off > 0, "{label}: the thermal phase is not on the zone");
+        let zone = c.surface_jumps(&model.state).unwrap();
+        model.set_coupling(Coupling::Mechanical).unwrap();
+        model.prepare().unwrap();
+        let c = model.contact.as_ref().unwrap();
+        let live = c.surface_jumps(&model.state).unwrap();
+        let scale = live.iter().fold(0.0f64, |m, j| m.max(j.abs()));
+        let diff = zone
+            .iter()
+            .zip(&live)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        let in_contact = (0..c.n_slave())
+            .filter(|&i| c.is_active(i))
+            .map(|i| live[i].abs())
+            .fold(f64::INFINITY, f64::min);
+        println!(
+            "{label}: {off} nodes off the zone; zone against live {:.1e} of the largest jump \
+             {scale:.3e}; smallest in contact {in_contact:.1e}",
+            diff / scale
+        );
+        assert!(diff < 1e-10 * scale, "{label}: {diff:e} of {scale:e}");
+        // 2D: nodes whose whole support touches; the coarse 3D mesh has
+        // none, its nodes in contact reach into the gaps.
+        let bound = if label == "2D" { 1e-8 } else { 0.2 };
+        assert!(in_contact < bound * scale, "{label}: {in_contact:e}");
+        assert!(scale > 0.0 && live.iter().all(|j| j.is_finite()), "{label}");
     }
 }

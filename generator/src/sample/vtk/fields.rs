@@ -7,6 +7,7 @@
 
 use nalgebra::{Matrix3, Vector3};
 
+use crate::Result;
 use crate::geometry::ThbPatch;
 use crate::solve::Model;
 
@@ -67,6 +68,13 @@ pub struct InterfaceFields {
     pub lumped_area: Vec<f64>,
     /// Lumped interface heat flux into the slave `h0^I` (W/m²).
     pub interface_heat_flux: Vec<f64>,
+    /// Lumped temperature jump `⟨N^I ϑc⟩ / ⟨N^I⟩` (4.1, 4.8) over the whole
+    /// slave surface, `ϑc = θ_s − θ_m` the slave's temperature less the
+    /// master's at the closest point (K): near zero where a constraint
+    /// model conducts, `−h0 / (kθ pN^α)` where the constitutive one does,
+    /// and the temperature difference across the gap elsewhere
+    /// ([`crate::contact::ContactInterface::surface_jumps`]).
+    pub temperature_jump: Vec<f64>,
     /// Lumped area `⟨N^I⟩` of the thermal contact (m per m of depth, m²): over
     /// the contact zone in the thermal phase of the two-phase framework
     /// (where it integrates the thermal contact), else `lumped_area`;
@@ -87,14 +95,14 @@ pub struct Fields {
 
 impl Fields {
     /// Every field at the model's current state (and current materials).
-    pub fn sample(model: &Model) -> Fields {
-        Fields {
+    pub fn sample(model: &Model) -> Result<Fields> {
+        Ok(Fields {
             dimension: model.dim,
             bodies: (0..model.bodies.len())
                 .map(|b| sample_body(model, b))
                 .collect(),
-            interface: sample_interface(model),
-        }
+            interface: sample_interface(model)?,
+        })
     }
 
     /// The fields of a two-phase load point (Sect. 3.1): the deformation,
@@ -118,6 +126,7 @@ impl Fields {
         let interface = match (mechanical.interface, thermal.interface) {
             (Some(m), Some(t)) => Some(InterfaceFields {
                 interface_heat_flux: t.interface_heat_flux,
+                temperature_jump: t.temperature_jump,
                 thermal_lumped_area: t.thermal_lumped_area,
                 heat_flow: t.heat_flow,
                 ..m
@@ -147,6 +156,7 @@ impl Fields {
         }
         if let Some(i) = &mut f.interface {
             i.interface_heat_flux.iter_mut().for_each(|v| *v *= flux);
+            i.temperature_jump.iter_mut().for_each(|v| *v *= flux);
             i.heat_flow *= flux;
         }
         f
@@ -255,16 +265,20 @@ fn sample_body(model: &Model, index: usize) -> BodyFields {
     out
 }
 
-fn sample_interface(model: &Model) -> Option<InterfaceFields> {
-    let c = model.contact.as_ref()?;
+fn sample_interface(model: &Model) -> Result<Option<InterfaceFields>> {
+    let Some(c) = model.contact.as_ref() else {
+        return Ok(None);
+    };
     let s = model.scales;
     let dim = model.dim;
     // Lumped areas are lengths (per unit depth) in 2D, areas in 3D.
     let area = s.length.powi(dim as i32 - 1);
     // The values at the slave control points (mortar nodes `I`).
     let ns = c.n_slave();
-    // Per node: position (3), pN, gN, ⟨N⟩, h0, thermal ⟨N⟩, displacement (3).
-    let nodal: Vec<[f64; 11]> = (0..ns)
+    let jumps = c.surface_jumps(&model.state)?;
+    // Per node: position (3), pN, gN, ⟨N⟩, h0, thermal ⟨N⟩, displacement
+    // (3), ϑc.
+    let nodal: Vec<[f64; 12]> = (0..ns)
         .map(|i| {
             let node = c.slave_nodes[i];
             let x = model.node_reference(node);
@@ -289,6 +303,7 @@ fn sample_interface(model: &Model) -> Option<InterfaceFields> {
                 u(0),
                 u(1),
                 u(2),
+                jumps[i] * s.temperature,
             ]
         })
         .collect();
@@ -321,7 +336,7 @@ fn sample_interface(model: &Model) -> Option<InterfaceFields> {
             v[k]
         }
     };
-    let values: Vec<[f64; 11]> = weights
+    let values: Vec<[f64; 12]> = weights
         .iter()
         .map(|w| std::array::from_fn(|k| w.iter().map(|&(i, r)| r * interpolated(i, k)).sum()))
         .collect();
@@ -331,7 +346,7 @@ fn sample_interface(model: &Model) -> Option<InterfaceFields> {
         .enumerate()
         .filter(|&(i, _)| !c.is_copy(i))
         .map(|(_, v)| v);
-    Some(InterfaceFields {
+    Ok(Some(InterfaceFields {
         dims,
         // Each tie group once (a periodic copy shows its node's areas).
         contact_force: owned.clone().map(|v| v[3] * v[5]).sum(),
@@ -343,5 +358,6 @@ fn sample_interface(model: &Model) -> Option<InterfaceFields> {
         lumped_area: column(5),
         interface_heat_flux: column(6),
         thermal_lumped_area: column(7),
-    })
+        temperature_jump: column(11),
+    }))
 }

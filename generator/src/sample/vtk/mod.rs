@@ -20,7 +20,16 @@
 //!   the whole slave surface), `interface_heat_flux` `h0^I` (W/m², into the
 //!   slave) and `thermal_lumped_area`, the `⟨N^I⟩` the thermal contact is
 //!   integrated with (over the contact zone in the two-phase thermal
-//!   phase); and the field data `contact_force` `Σ ⟨N^I⟩ pN^I` (the normal
+//!   phase), and `temperature_jump`, the local jump `ϑc = θ_s − θ_m` (4.1)
+//!   (K; the slave's temperature less the master's at its closest point)
+//!   lumped over each node's whole support, `⟨N^I ϑc⟩ / ⟨N^I⟩`: near zero
+//!   where a constraint model conducts, the temperature difference across
+//!   the gap elsewhere (its mean over the slave surface, weighted by
+//!   `lumped_area`, was 0.88–0.96 of the macroscopic jump on the case
+//!   meshes of `tables/sinusoid_on_flat.toml` and
+//!   `tables/egg_box_on_flat.toml`: the macroscopic jump is read off the
+//!   bodies' far fields, not the surfaces');
+//!   and the field data `contact_force` `Σ ⟨N^I⟩ pN^I` (the normal
 //!   contact force; N/m in 2D, N in 3D) and `interface_heat_flow`
 //!   `Σ ⟨N^I⟩ h0^I` (thermal lumped areas; the heat flow into the slave,
 //!   W/m or W). In 2D the points are the slave control points (mortar nodes
@@ -59,7 +68,8 @@
 //!   (uniform, frozen) temperatures it was solved with, `θ̄c`, or for the
 //!   slave `θ̄c + ϑ̄c` in the last self-consistent iteration;
 //!   `temperature`, `heat_flux`, `interface_heat_flux`,
-//!   `thermal_lumped_area` and `interface_heat_flow` from the thermal
+//!   `thermal_lumped_area`, `temperature_jump` and `interface_heat_flow`
+//!   from the thermal
 //!   phase (ii) on that frozen configuration (conductivities frozen
 //!   at the same temperatures) at the case's flux (the plain two-phase
 //!   thermal phase is solved at unit flux and scaled, exactly: it is affine
@@ -281,6 +291,7 @@ fn interface_file(info: &PointInfo, dimension: usize, c: &InterfaceFields) -> St
             scalar("lumped_area", &c.lumped_area),
             scalar("interface_heat_flux", &c.interface_heat_flux),
             scalar("thermal_lumped_area", &c.thermal_lumped_area),
+            scalar("temperature_jump", &c.temperature_jump),
         ],
     )
 }
