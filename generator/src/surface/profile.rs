@@ -155,11 +155,15 @@ impl Surface for Profile {
 mod tests {
     use super::*;
 
-    fn write(name: &str, text: &str) -> std::path::PathBuf {
-        let p =
-            std::env::temp_dir().join(format!("tcgen-profile-{}-{name}.csv", std::process::id()));
-        std::fs::write(&p, text).unwrap();
-        p
+    /// `text` in a temporary file, removed when the returned path drops.
+    fn write(name: &str, text: &str) -> tempfile::TempPath {
+        let file = tempfile::Builder::new()
+            .prefix(&format!("tcgen-profile-{name}-"))
+            .suffix(".csv")
+            .tempfile()
+            .unwrap();
+        std::fs::write(file.path(), text).unwrap();
+        file.into_temp_path()
     }
 
     #[test]

@@ -781,11 +781,14 @@ fn a_converged_predictor_ends_the_iterations_with_its_own_output() {
 /// reaches below its trough, so that the exact surfaces first touch at the
 /// asperity. The case mesh's fit (16 elements of 0.625 μm) keeps about a
 /// tenth of it. Written as a CSV (`kind = "profile"`) into a directory of
-/// its own; returns the surface table.
-fn asperity_profile(name: &str, depth: f64) -> String {
-    let dir = std::env::temp_dir().join(format!("tcgen-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join("profile.csv");
+/// its own, removed when the returned guard drops; returns it with the
+/// surface table.
+fn asperity_profile(name: &str, depth: f64) -> (tempfile::TempDir, String) {
+    let dir = tempfile::Builder::new()
+        .prefix(&format!("tcgen-{name}-"))
+        .tempdir()
+        .unwrap();
+    let file = dir.path().join("profile.csv");
     let (w, n) = (1.0e-5, 1000);
     let text: String = (0..n)
         .map(|i| {
@@ -796,7 +799,8 @@ fn asperity_profile(name: &str, depth: f64) -> String {
         })
         .collect();
     std::fs::write(&file, text).unwrap();
-    format!("kind = \"profile\"\nfile = \"{}\"", file.display())
+    let table = format!("kind = \"profile\"\nfile = \"{}\"", file.display());
+    (dir, table)
 }
 
 const ASPERITY_X: f64 = 2.5e-6;
@@ -844,7 +848,7 @@ fn misfit_marks_at_one_kpa(c: &Case) -> Vec<([f64; 3], [f64; 3])> {
 #[test]
 fn the_surface_indicator_marks_an_asperity_the_fit_flattens() {
     let marked = |depth: f64| -> Vec<[f64; 2]> {
-        let surface = asperity_profile(&format!("indicator-{depth}"), depth);
+        let (_dir, surface) = asperity_profile(&format!("indicator-{depth}"), depth);
         let c = asperity_case([16, 8], [14, 7], &surface, "[1.0e3]", "");
         misfit_marks_at_one_kpa(&c)
             .iter()
@@ -879,7 +883,7 @@ fn the_surface_indicator_marks_an_asperity_the_fit_flattens() {
 /// case mesh 8× finer adaptive to 0.1 %.
 #[test]
 fn an_asperity_the_case_fit_flattens_is_found_and_resolved() {
-    let surface = asperity_profile("resolved", 3.5e-7);
+    let (_dir, surface) = asperity_profile("resolved", 3.5e-7);
     let adaptive = "target_error = 0.01\nmax_levels = 8";
     let r = solve(&asperity_case(
         [16, 8],
@@ -938,7 +942,7 @@ fn an_asperity_the_case_fit_flattens_is_found_and_resolved() {
 #[test]
 fn a_kept_configuration_leaves_the_gaps_the_coarse_level_solved() {
     let depth = 3.5e-7;
-    let surface = asperity_profile("kept", depth);
+    let (_dir, surface) = asperity_profile("kept", depth);
     let c = asperity_case([16, 8], [14, 7], &surface, "[1.0e3]", "");
     let mut s = PathSolver::new(&c).unwrap();
     s.solve_pressure(1.0e3).unwrap();
@@ -1007,9 +1011,11 @@ fn a_kept_configuration_leaves_the_gaps_the_coarse_level_solved() {
 #[test]
 fn the_surface_indicator_marks_an_asperity_in_3d() {
     let marked = |depth: f64| -> Vec<[f64; 4]> {
-        let dir = std::env::temp_dir().join(format!("tcgen-dent3d-{depth}-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let file = dir.join("heights.csv");
+        let dir = tempfile::Builder::new()
+            .prefix(&format!("tcgen-dent3d-{depth}-"))
+            .tempdir()
+            .unwrap();
+        let file = dir.path().join("heights.csv");
         let (w, n) = (1.0e-5, 64);
         let q = std::f64::consts::TAU / w;
         let rows: Vec<String> = (0..n)

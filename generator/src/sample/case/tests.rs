@@ -35,14 +35,17 @@ fn late_failures_are_validation_errors_naming_the_key() {
         assert!(e.contains(key), "{key}: {e}");
     }
     // A profile file that is missing or malformed.
-    let dir = std::env::temp_dir().join(format!("tcgen-case-profile-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let scratch = tempfile::Builder::new()
+        .prefix("tcgen-case-profile-")
+        .tempdir()
+        .unwrap();
+    let dir = scratch.path();
     std::fs::write(dir.join("bad.csv"), "x,z\n0.0,abc\n").unwrap();
     for file in ["missing.csv", "bad.csv"] {
         let t = format!(
             "[surface.upper]\nkind = \"profile\"\nfile = \"{file}\"\n[surface.lower]\nkind = \"flat\"\n"
         );
-        let e = Case::from_toml(&t, &dir).unwrap_err().to_string();
+        let e = Case::from_toml(&t, dir).unwrap_err().to_string();
         assert!(
             e.contains("surface.upper.file") || e.contains(file),
             "{file}: {e}"
