@@ -1488,28 +1488,60 @@ pub struct EggBoxAdaptive {
 /// --only egg-box`; docs/3d.md, "The benchmark adaptive to 1 %").
 pub const EGG_BOX_BENCH_MAX_LEVELS: usize = 4;
 
-/// The 3D benchmark case of issue 12: `tables/egg_box_on_flat.toml` (the
-/// egg box on a flat, Table I material, p = 2, two-phase self-consistent,
-/// 10 pressures from 1 kPa to `p*/2`), adaptive as `adaptive` says, or on
-/// the case's fixed mesh refined `interface_levels` times at the interface
-/// (`None`; the adaptive benchmark refines by itself, and takes 0).
-pub fn egg_box_case(
-    adaptive: Option<EggBoxAdaptive>,
-    interface_levels: usize,
-) -> Result<crate::sample::Case> {
-    let mut case = crate::sample::Case::from_toml(
-        include_str!("../../tables/egg_box_on_flat.toml"),
-        std::path::Path::new("."),
-    )?;
-    match adaptive {
-        Some(_) if interface_levels > 0 => {
+/// The mesh of the 3D benchmark ([`egg_box_case`]): adaptive, or the
+/// case's fixed mesh refined `interface_levels` times at the interface.
+#[derive(Clone, Copy, Debug)]
+pub enum EggBoxMesh {
+    /// Adaptive refinement to a target.
+    Adaptive(EggBoxAdaptive),
+    /// The case's mesh (`--fixed`), refined at the interface (`--levels`).
+    Fixed {
+        /// Interface refinement levels.
+        interface_levels: usize,
+    },
+}
+
+impl EggBoxMesh {
+    /// From the options of `tcgen bench --only egg-box`: adaptive unless
+    /// `fixed`; `--levels` (`interface_levels` above 0) only with `--fixed`,
+    /// and `--max-dofs` only without (it bounds the adaptive levels), each
+    /// given where it does not apply an error naming it.
+    pub fn from_options(
+        fixed: bool,
+        interface_levels: usize,
+        adaptive: EggBoxAdaptive,
+    ) -> Result<Self> {
+        if !fixed && interface_levels > 0 {
             return Err(Error::invalid(
                 "--levels",
                 interface_levels,
                 "0 unless --fixed (the adaptive benchmark refines by itself)",
             ));
         }
-        Some(a) => {
+        if fixed && let Some(n) = adaptive.max_dofs {
+            return Err(Error::invalid(
+                "--max-dofs",
+                n,
+                "absent with --fixed (it bounds the adaptive levels)",
+            ));
+        }
+        Ok(match fixed {
+            true => EggBoxMesh::Fixed { interface_levels },
+            false => EggBoxMesh::Adaptive(adaptive),
+        })
+    }
+}
+
+/// The 3D benchmark case of issue 12: `tables/egg_box_on_flat.toml` (the
+/// egg box on a flat, Table I material, p = 2, two-phase self-consistent,
+/// 10 pressures from 1 kPa to `p*/2`) on the mesh `mesh`.
+pub fn egg_box_case(mesh: EggBoxMesh) -> Result<crate::sample::Case> {
+    let mut case = crate::sample::Case::from_toml(
+        include_str!("../../tables/egg_box_on_flat.toml"),
+        std::path::Path::new("."),
+    )?;
+    match mesh {
+        EggBoxMesh::Adaptive(a) => {
             crate::sample::case::check_target_error("--target", a.target)?;
             crate::sample::case::check_max_levels("--max-levels", a.max_levels)?;
             case.discretization.target_error = Some(a.target);
@@ -1519,7 +1551,9 @@ pub fn egg_box_case(
                 case.discretization.max_dofs = n;
             }
         }
-        None => case.discretization.interface_levels = interface_levels,
+        EggBoxMesh::Fixed { interface_levels } => {
+            case.discretization.interface_levels = interface_levels
+        }
     }
     case.validate()?;
     Ok(case)
@@ -1661,14 +1695,14 @@ mod tests {
     /// self-consistency iterations.
     #[test]
     fn egg_box_bench_counts_every_adaptive_level() {
-        let adaptive = |target, max_levels, max_dofs| {
-            Some(EggBoxAdaptive {
-                target,
-                max_levels,
-                max_dofs,
-            })
+        let adaptive = |target, max_levels, max_dofs| EggBoxAdaptive {
+            target,
+            max_levels,
+            max_dofs,
         };
-        let mut case = egg_box_case(adaptive(0.01, 2, None), 0).unwrap();
+        let mesh = |fixed, levels, a| EggBoxMesh::from_options(fixed, levels, a);
+        let case_of = |a| egg_box_case(EggBoxMesh::Adaptive(a));
+        let mut case = case_of(adaptive(0.01, 2, None)).unwrap();
         case.load.pressures = vec![1.0e3];
         let (phases, rows) = egg_box_bench(&case).unwrap();
         let r = &rows[0];
@@ -1686,12 +1720,27 @@ mod tests {
             text.contains("not met at 1.0000e3 Pa: max_levels"),
             "{text}"
         );
-        assert!(egg_box_case(adaptive(0.0, 4, None), 0).is_err());
-        assert!(egg_box_case(adaptive(0.01, 13, None), 0).is_err());
-        let e = egg_box_case(adaptive(0.01, 4, Some(8)), 0).unwrap_err();
+        assert!(case_of(adaptive(0.0, 4, None)).is_err());
+        assert!(case_of(adaptive(0.01, 13, None)).is_err());
+        let e = case_of(adaptive(0.01, 4, Some(8))).unwrap_err();
         assert!(e.to_string().contains("--max-dofs"), "{e}");
-        let c = egg_box_case(adaptive(0.01, 4, Some(400_000)), 0).unwrap();
+        let c = case_of(adaptive(0.01, 4, Some(400_000))).unwrap();
         assert_eq!(c.discretization.max_dofs, 400_000);
+        // The options that do not apply to the mesh asked for.
+        let a = adaptive(0.01, 4, None);
+        let e = mesh(false, 1, a).unwrap_err().to_string();
+        assert!(e.contains("--levels") && e.contains("--fixed"), "{e}");
+        let e = mesh(true, 0, adaptive(0.01, 4, Some(400_000)))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("--max-dofs") && e.contains("--fixed"), "{e}");
+        let c = egg_box_case(mesh(true, 1, a).unwrap()).unwrap();
+        assert_eq!(c.discretization.interface_levels, 1);
+        assert_eq!(c.discretization.target_error, None);
+        assert!(matches!(
+            mesh(false, 0, a).unwrap(),
+            EggBoxMesh::Adaptive(_)
+        ));
     }
 
     /// The effectivity summary counts only resolved points of converged

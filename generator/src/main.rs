@@ -1135,19 +1135,13 @@ fn main() -> ExitCode {
         } => {
             let run = || -> tcgen::Result<()> {
                 if only == Some(BenchPart::EggBox) {
-                    if fixed && max_dofs.is_some() {
-                        return Err(tcgen::Error::invalid(
-                            "--max-dofs",
-                            max_dofs.unwrap_or_default(),
-                            "absent with --fixed (it bounds the adaptive levels)",
-                        ));
-                    }
-                    let adaptive = (!fixed).then_some(tcgen::bench::EggBoxAdaptive {
+                    let adaptive = tcgen::bench::EggBoxAdaptive {
                         target,
                         max_levels,
                         max_dofs,
-                    });
-                    let case = tcgen::bench::egg_box_case(adaptive, levels)?;
+                    };
+                    let mesh = tcgen::bench::EggBoxMesh::from_options(fixed, levels, adaptive)?;
+                    let case = tcgen::bench::egg_box_case(mesh)?;
                     let (phases, rows) = tcgen::bench::egg_box_bench(&case)?;
                     print!(
                         "{}",
