@@ -15,6 +15,14 @@ GMRES to a true relative residual of 1e-8 and prints the iterations of each prec
   vanka    node-block Gauss-Seidel (the equations of one control point) with a patch per
            active multiplier (its row's unknowns), symmetric sweep, + coarse level
   ilu      SuperLU's ILUTP (--drop, --fill) as the smoother, + coarse level
+  sgs      the displacement block alone (the multipliers' rows and columns left out; it
+           keeps the augmented Lagrangian's penalty stiffness of the nodes in contact):
+           symmetric point Gauss-Seidel, --sweeps forward and as many backward, + the
+           Galerkin coarse level of that block (docs/3d.md, "Stop 83")
+
+--modes K (with sgs) also prints, for the K lowest eigenmodes v of the displacement block,
+the A-norm error of their best approximation in the coarse space (the A-orthogonal
+projection P (P^T A P)^-1 P^T A v) and the height they lie at.
 
 The coarse level is level L-1's own tangent ("re-discretized"), or with --galerkin P^T A P.
 Needs numpy and scipy (not part of the test suite's environment):
@@ -72,15 +80,20 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("dir")
     ap.add_argument("level", type=int)
-    ap.add_argument("smoother", choices=["schwarz", "vanka", "ilu"])
+    ap.add_argument("smoother", choices=["schwarz", "vanka", "ilu", "sgs"])
     ap.add_argument("--box", type=int, default=3000)
     ap.add_argument("--overlap", type=int, default=1)
     ap.add_argument("--drop", type=float, default=1e-4)
     ap.add_argument("--fill", type=float, default=3.0)
     ap.add_argument("--galerkin", action="store_true")
+    ap.add_argument("--sweeps", type=int, default=1)
+    ap.add_argument("--modes", type=int, default=0)
     args = ap.parse_args()
 
     a, coarse, p, classes, x = load(args.dir, args.level)
+    if args.smoother == "sgs":
+        displacement_block(a, p, classes, x, args.sweeps, args.modes)
+        return
     n = a.shape[0]
     print(f"level {args.level}: {n} equations ({np.count_nonzero(classes >= 2)} multipliers), "
           f"{a.nnz} entries; coarse {coarse.shape[0]}; P {p.nnz} entries")
@@ -180,6 +193,46 @@ def main():
         x, its = gmres_right(a, prec, b)
         res = np.linalg.norm(b - a @ x) / np.linalg.norm(b)
         print(f"  {label}: {its} iterations, true relative residual {res:.1e}, {time.time() - t:.1f} s", flush=True)
+
+
+def displacement_block(a, p, classes, x, sweeps, modes):
+    """The `sgs` experiment: the displacement block, its Galerkin coarse level, symmetric
+    Gauss-Seidel, and the coarse space's approximation of the lowest modes."""
+    bulk = np.flatnonzero(classes < 2)
+    a = a.tocsr()[bulk][:, bulk].tocsr()
+    p = p.tocsr()[bulk].tocsc()
+    p = p[:, np.flatnonzero(np.asarray(abs(p).sum(0)).ravel() > 0)].tocsr()
+    n = a.shape[0]
+    coarse = sla.splu((p.T @ a @ p).tocsc())
+    print(f"displacement block: {n} equations, {a.nnz} entries; Galerkin coarse {p.shape[1]}")
+    lower, upper = sp.tril(a, format="csr"), sp.triu(a, format="csr")
+
+    def sweep(r, y, triangle, is_lower):
+        for _ in range(sweeps):
+            y = y + sla.spsolve_triangular(triangle, r - a @ y, lower=is_lower)
+        return y
+
+    def cycle(r):
+        y = sweep(r, np.zeros(n), lower, True)
+        y = y + p @ coarse.solve(p.T @ (r - a @ y))
+        return sweep(r, y, upper, False)
+
+    b = np.random.default_rng(0).standard_normal(n)
+    t = time.time()
+    y, its = gmres_right(a, cycle, b)
+    res = np.linalg.norm(b - a @ y) / np.linalg.norm(b)
+    print(f"  smooth ({sweeps} sweeps), coarse, smooth: {its} iterations, "
+          f"true relative residual {res:.1e}, {time.time() - t:.1f} s")
+    if modes:
+        values, vectors = sla.eigsh(a.tocsc(), k=modes, sigma=0, which="LM")
+        z = x[bulk, 2]
+        for i in np.argsort(values):
+            v = vectors[:, i]
+            e = v - p @ coarse.solve(p.T @ (a @ v))
+            w = v * v / (v @ v)
+            print(f"  mode {values[i]:.3e}: coarse approximation error {np.sqrt((e @ (a @ e)) / (v @ (a @ v))):.2f} "
+                  f"(A-norm); its height (mean weighted by v², the positions as written) {w @ z:+.3f}, "
+                  f"share within 0.15 of it {w[np.abs(z - w @ z) < 0.15].sum():.2f}")
 
 
 if __name__ == "__main__":
