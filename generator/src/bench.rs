@@ -1525,9 +1525,10 @@ impl EggBoxMesh {
                 "absent with --fixed (it bounds the adaptive levels)",
             ));
         }
-        Ok(match fixed {
-            true => EggBoxMesh::Fixed { interface_levels },
-            false => EggBoxMesh::Adaptive(adaptive),
+        Ok(if fixed {
+            EggBoxMesh::Fixed { interface_levels }
+        } else {
+            EggBoxMesh::Adaptive(adaptive)
         })
     }
 }

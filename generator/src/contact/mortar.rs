@@ -1008,14 +1008,17 @@ impl ContactInterface {
     /// measure. While the thermal phase integrates over the contact zone
     /// ([`ContactInterface::freeze`]) the zone's points reach only the nodes
     /// in contact; the kept mechanical points are then projected here, so
-    /// that the jump is defined at every node, across the gaps too. A
-    /// periodic copy takes its node's value.
+    /// that the jump is defined at every node, across the gaps too (and the
+    /// live points too where their states are not those of `state`'s last
+    /// preparation, e.g. cleared by a change of phase). A periodic copy
+    /// takes its node's value.
     pub fn surface_jumps(&self, state: &[f64]) -> Result<Vec<f64>> {
         let (points, jumps): (&[SlavePoint], Vec<f64>) = match &self.mechanical_points {
-            None => (
+            None if self.state.len() == self.points.len() => (
                 &self.points,
                 self.state.iter().map(|s| s.jump.value).collect(),
             ),
+            None => (&self.points, self.point_jumps(state, &self.points)?),
             Some(set) => (&set.points, self.point_jumps(state, &set.points)?),
         };
         let n = self.n_slave();

@@ -551,14 +551,14 @@ fn the_interface_jump_of_a_resistive_interface_is_its_micro_jump() {
 /// jump the live mechanical points give once the zone is undone, in 2D
 /// (the Sect. 5.7 sample, where the zone is the default) and 3D (the egg
 /// box with `thermal_zone = true`; the two paths run the same projections
-/// and agree to the bit). With the augmented Lagrangian thermal constraint
+/// and agree to the bit, as do the live points before their states are
+/// prepared again). With the augmented Lagrangian thermal constraint
 /// a node whose whole support is in contact has no jump (2D), and the
 /// jumps across the gaps exceed those in contact.
 #[test]
 fn the_interface_jump_over_the_contact_zone_is_the_whole_surfaces() {
-    use tcgen::bulk::Coupling;
+    use tcgen::contact::kinematics::Needs;
     use tcgen::sample::case::{LateralCondition, TopLateral};
-    use tcgen::solve::NonlinearProblem;
     let mut c3 = case_3d(Method::TwoPhase, &[1.0e5]);
     c3.contact.thermal_zone = Some(true);
     for (label, case, pressure) in [
@@ -578,10 +578,17 @@ fn the_interface_jump_over_the_contact_zone_is_the_whole_surfaces() {
             .count();
         assert!(off > 0, "{label}: the thermal phase is not on the zone");
         let zone = c.surface_jumps(&model.state).unwrap();
-        model.set_coupling(Coupling::Mechanical).unwrap();
-        model.prepare().unwrap();
-        let c = model.contact.as_ref().unwrap();
-        let live = c.surface_jumps(&model.state).unwrap();
+        // Undoing the zone clears the point states: the live (mechanical)
+        // points are then projected here, and give what they give once
+        // prepared.
+        let state = model.state.clone();
+        let c = model.contact.as_mut().unwrap();
+        c.thaw();
+        assert!(c.state.is_empty(), "{label}");
+        let unprepared = c.surface_jumps(&state).unwrap();
+        c.prepare(&state, Needs::Values).unwrap();
+        let live = c.surface_jumps(&state).unwrap();
+        assert_eq!(unprepared, live, "{label}");
         let scale = live.iter().fold(0.0f64, |m, j| m.max(j.abs()));
         let diff = zone
             .iter()
