@@ -18,7 +18,10 @@ GMRES to a true relative residual of 1e-8 and prints the iterations of each prec
   sgs      the displacement block alone (the multipliers' rows and columns left out; it
            keeps the augmented Lagrangian's penalty stiffness of the nodes in contact):
            symmetric point Gauss-Seidel, --sweeps forward and as many backward, + the
-           Galerkin coarse level of that block (docs/3d.md, "Stop 83")
+           Galerkin coarse level of that block (docs/3d.md, "Stop 83"); with --patches W S
+           the point sweeps become multiplicative sweeps over overlapping patches: the
+           equations whose positions lie in cubes of side W at a stride S (each cube's
+           block inverted densely)
 
 --modes K (with sgs) also prints, for the K lowest eigenmodes v of the displacement block,
 the A-norm error of their best approximation in the coarse space (the A-orthogonal
@@ -88,11 +91,12 @@ def main():
     ap.add_argument("--galerkin", action="store_true")
     ap.add_argument("--sweeps", type=int, default=1)
     ap.add_argument("--modes", type=int, default=0)
+    ap.add_argument("--patches", type=float, nargs=2, metavar=("W", "S"))
     args = ap.parse_args()
 
     a, coarse, p, classes, x = load(args.dir, args.level)
     if args.smoother == "sgs":
-        displacement_block(a, p, classes, x, args.sweeps, args.modes)
+        displacement_block(a, p, classes, x, args.sweeps, args.modes, args.patches)
         return
     n = a.shape[0]
     print(f"level {args.level}: {n} equations ({np.count_nonzero(classes >= 2)} multipliers), "
@@ -195,9 +199,30 @@ def main():
         print(f"  {label}: {its} iterations, true relative residual {res:.1e}, {time.time() - t:.1f} s", flush=True)
 
 
-def displacement_block(a, p, classes, x, sweeps, modes):
+def patches(a, x, width, stride):
+    """Overlapping patches: the equations whose positions `x` lie in each cube of side
+    `width` (a whole number of strides) whose corner is on the grid of `stride`; each
+    patch with the dense inverse of its block and its rows."""
+    lo = x.min(0)
+    cells = {}
+    for i, key in enumerate(map(tuple, np.floor((x - lo) / stride).astype(int))):
+        cells.setdefault(key, []).append(i)
+    m = int(round(width / stride))
+    out, seen = [], set()
+    for c in cells:
+        eqs = sorted({i for d in np.ndindex(m, m, m)
+                      for i in cells.get((c[0] + d[0], c[1] + d[1], c[2] + d[2]), [])})
+        if tuple(eqs) not in seen:
+            seen.add(tuple(eqs))
+            s = np.array(eqs)
+            out.append((s, a[s], np.linalg.inv(a[s][:, s].toarray())))
+    return out
+
+
+def displacement_block(a, p, classes, x, sweeps, modes, patch_size=None):
     """The `sgs` experiment: the displacement block, its Galerkin coarse level, symmetric
-    Gauss-Seidel, and the coarse space's approximation of the lowest modes."""
+    Gauss-Seidel (point or patch), and the coarse space's approximation of the lowest
+    modes."""
     bulk = np.flatnonzero(classes < 2)
     a = a.tocsr()[bulk][:, bulk].tocsr()
     p = p.tocsr()[bulk].tocsc()
@@ -211,6 +236,19 @@ def displacement_block(a, p, classes, x, sweeps, modes):
         for _ in range(sweeps):
             y = y + sla.spsolve_triangular(triangle, r - a @ y, lower=is_lower)
         return y
+
+    if patch_size:
+        blocks = patches(a, x[bulk], *patch_size)
+        storage = sum(len(s) ** 2 for s, _, _ in blocks)
+        print(f"{len(blocks)} patches of {np.mean([len(s) for s, _, _ in blocks]):.0f} equations on "
+              f"average, {storage / 1e6:.1f} M dense entries ({storage / a.nnz:.1f} x the block), "
+              f"{sum(len(s) for s, _, _ in blocks) / n:.1f} patches per equation")
+
+        def sweep(r, y, triangle, is_lower):
+            for _ in range(sweeps):
+                for s, rows, inverse in (blocks if is_lower else blocks[::-1]):
+                    y[s] += inverse @ (r[s] - rows @ y)
+            return y
 
     def cycle(r):
         y = sweep(r, np.zeros(n), lower, True)
