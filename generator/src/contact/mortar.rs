@@ -95,6 +95,20 @@ pub struct SlavePoint {
     pub piece: Option<MasterPiece>,
 }
 
+impl SlavePoint {
+    /// The point's position `Σ_A N^A x_A` on the slave face whose control
+    /// points are at `nodes` (indexed as [`SlavePoint::conn`]).
+    fn position(&self, nodes: &[[f64; 3]]) -> [f64; 3] {
+        let mut x = [0.0; 3];
+        for (&b, &c) in self.basis.iter().zip(&self.conn) {
+            for (xk, nk) in x.iter_mut().zip(&nodes[c]) {
+                *xk += b * nk;
+            }
+        }
+        x
+    }
+}
+
 /// The slave node whose contact element carries a point's continuum terms:
 /// the one with the largest basis value.
 fn owner_of(p: &SlavePoint) -> usize {
@@ -878,10 +892,10 @@ impl ContactInterface {
             .filter(|c| c.point.conn.iter().any(|&n| active[self.copy_of[n]]))
             .filter_map(|c| {
                 let sp = &c.point;
-                let (mut x, mut tangent) = ([0.0; 3], [0.0; 3]);
+                let x = sp.position(slave_cur);
+                let mut tangent = [0.0; 3];
                 for (a, &n) in sp.conn.iter().enumerate() {
                     for k in 0..3 {
-                        x[k] += sp.basis[a] * slave_cur[n][k];
                         tangent[k] += c.normal_basis[a] * slave_cur[n][k];
                     }
                 }
@@ -1038,15 +1052,6 @@ impl ContactInterface {
     /// the master in the configuration `state` (each from no earlier guess).
     fn point_jumps(&self, state: &[f64], points: &[SlavePoint]) -> Result<Vec<f64>> {
         let (slave_cur, master_cur) = self.current_positions(state);
-        let at = |sp: &SlavePoint| -> [f64; 3] {
-            let mut xs = [0.0; 3];
-            for (a, &c) in sp.conn.iter().enumerate() {
-                for (k, x) in xs.iter_mut().enumerate() {
-                    *x += sp.basis[a] * slave_cur[c][k];
-                }
-            }
-            xs
-        };
         let face = &*self.master_face;
         let pieces = FacePieces::new(face, &master_cur);
         if self.dim == 3 {
@@ -1059,7 +1064,7 @@ impl ContactInterface {
             return points
                 .par_iter()
                 .map(|sp| {
-                    let xs = at(sp);
+                    let xs = sp.position(&slave_cur);
                     let pr = match sp.piece {
                         Some(piece) => {
                             projection3d::project_on_element(&surface, &search, xs, piece)
@@ -1082,7 +1087,7 @@ impl ContactInterface {
         points
             .iter()
             .map(|sp| {
-                let xs = at(sp);
+                let xs = sp.position(&slave_cur);
                 let pr = project(&curve, [xs[0], xs[1]], None, self.period, &samples)?;
                 Ok(self
                     .point_state(state, (&sp.basis, &sp.conn), pr, Needs::Values)
@@ -1130,13 +1135,9 @@ impl ContactInterface {
             let pr = match &samples {
                 None => previous[i].projection,
                 Some(samples) => {
-                    let mut xs = [0.0; 2];
-                    for (a, &c) in sp.conn.iter().enumerate() {
-                        xs[0] += sp.basis[a] * slave_cur[c][0];
-                        xs[1] += sp.basis[a] * slave_cur[c][1];
-                    }
+                    let xs = sp.position(&slave_cur);
                     let guess = previous.get(i).map(|s| s.projection.eta);
-                    project(&curve, xs, guess, self.period, samples)?
+                    project(&curve, [xs[0], xs[1]], guess, self.period, samples)?
                 }
             };
             out.push(self.point_state(state, (&sp.basis, &sp.conn), pr, needs));
@@ -1211,12 +1212,7 @@ impl ContactInterface {
                 let pr = match last {
                     Some(pr) if unmoved => pr,
                     _ => {
-                        let mut xs = [0.0; 3];
-                        for (a, &c) in sp.conn.iter().enumerate() {
-                            for k in 0..3 {
-                                xs[k] += sp.basis[a] * slave_cur[c][k];
-                            }
-                        }
+                        let xs = sp.position(slave_cur);
                         match sp.piece {
                             Some(piece) => {
                                 projection3d::project_on_element(&surface, &search, xs, piece)
