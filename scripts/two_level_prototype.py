@@ -22,6 +22,15 @@ GMRES to a true relative residual of 1e-8 and prints the iterations of each prec
            the point sweeps become multiplicative sweeps over overlapping patches: the
            equations whose positions lie in cubes of side W at a stride S (each cube's
            block inverted densely)
+  condensed  the whole system (docs/3d.md, "Stop 84"): the active multipliers condensed
+           into the displacement block with an augmentation F times the block's scale
+           (K + e B^T W^-1 B, W the lumped areas read off the rows of B), solved by a
+           cycle of multiplicative sweeps over the cubes of --patches W S (displacement
+           unknowns only) and, with --rows, one more patch per active multiplier: the
+           unknowns of its constraint row (the patches then hold the local kernel of the
+           constraint, so the cycle does not degrade as e grows); the coarse level is
+           P^T (K + e B^T W^-1 B) P, or with --own level L-1's own tangent (its
+           displacement part)
 
 --modes K (with sgs) also prints, for the K lowest eigenmodes v of the displacement block,
 the A-norm error of their best approximation in the coarse space (the A-orthogonal
@@ -83,7 +92,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("dir")
     ap.add_argument("level", type=int)
-    ap.add_argument("smoother", choices=["schwarz", "vanka", "ilu", "sgs"])
+    ap.add_argument("smoother", choices=["schwarz", "vanka", "ilu", "sgs", "condensed"])
     ap.add_argument("--box", type=int, default=3000)
     ap.add_argument("--overlap", type=int, default=1)
     ap.add_argument("--drop", type=float, default=1e-4)
@@ -92,11 +101,17 @@ def main():
     ap.add_argument("--sweeps", type=int, default=1)
     ap.add_argument("--modes", type=int, default=0)
     ap.add_argument("--patches", type=float, nargs=2, metavar=("W", "S"))
+    ap.add_argument("--factor", type=float, nargs="+", default=[100.0], metavar="F")
+    ap.add_argument("--rows", action="store_true")
+    ap.add_argument("--own", action="store_true")
     args = ap.parse_args()
 
     a, coarse, p, classes, x = load(args.dir, args.level)
     if args.smoother == "sgs":
         displacement_block(a, p, classes, x, args.sweeps, args.modes, args.patches)
+        return
+    if args.smoother == "condensed":
+        condensed(a, coarse, p, classes, x, args)
         return
     n = a.shape[0]
     print(f"level {args.level}: {n} equations ({np.count_nonzero(classes >= 2)} multipliers), "
@@ -217,6 +232,81 @@ def patches(a, x, width, stride):
             s = np.array(eqs)
             out.append((s, a[s], np.linalg.inv(a[s][:, s].toarray())))
     return out
+
+
+def condensed(a, coarse_own, p, classes, x, args):
+    """The `condensed` experiment: GMRES on the whole system, preconditioned by the
+    condensation of the active multipliers with a larger augmentation, whose displacement
+    system a patch cycle solves."""
+    a = a.tocsr()
+    n = a.shape[0]
+    multiplier = classes >= 2
+    u = np.flatnonzero(~multiplier)
+    rows = a[np.flatnonzero(multiplier)][:, u]
+    # Active: a multiplier row with a nonzero entry (the others are diagonal:
+    # out of contact, or periodic copies).
+    constrained = np.asarray(abs(rows).sum(1)).ravel() > 0
+    active = np.flatnonzero(multiplier)[constrained]
+    diagonal = np.setdiff1d(np.flatnonzero(multiplier), active)
+    k = a[u][:, u].tocsr()
+    bt, b = a[u][:, active].tocsc(), a[active][:, u].tocsr()
+    w = np.asarray(abs(b).sum(1)).ravel() / 2
+    btwb = (bt @ sp.diags(1 / w) @ b).tocsr()
+    scale = k.diagonal().max() / btwb.diagonal().max()
+    if args.own:
+        coarse_class = np.fromfile(f"{args.dir}/L{args.level}_coarse_class.u64", dtype="<u8")
+        cu = np.flatnonzero(coarse_class < 2)
+        pu = p.tocsr()[u][:, cu].tocsr()
+        own = sla.splu(coarse_own.tocsc())
+
+        def coarse_solve(r):
+            z = np.zeros(coarse_own.shape[0])
+            z[cu] = r
+            return own.solve(z)[cu]
+    else:
+        pu = p.tocsr()[u].tocsc()
+        pu = pu[:, np.flatnonzero(np.asarray(abs(pu).sum(0)).ravel() > 0)].tocsr()
+    print(f"level {args.level}: {n} equations, {len(u)} displacements, {len(active)} active multipliers")
+    rhs = np.random.default_rng(0).standard_normal(n)
+    d = a.diagonal()[diagonal]
+    for factor in args.factor:
+        e = factor * scale
+        kc = (k + e * btwb).tocsr()
+        if not args.own:
+            galerkin = sla.splu((pu.T @ kc @ pu).tocsc())
+            coarse_solve = galerkin.solve
+        blocks = patches(kc, x[u], *args.patches)
+        if args.rows:
+            for j in range(len(active)):
+                s = b.indices[b.indptr[j]:b.indptr[j + 1]][b.data[b.indptr[j]:b.indptr[j + 1]] != 0]
+                s = np.unique(s)
+                blocks.append((s, kc[s], np.linalg.inv(kc[s][:, s].toarray())))
+        storage = sum(len(s) ** 2 for s, _, _ in blocks)
+
+        def sweep(r, y, order):
+            for s, rows_s, inverse in order:
+                y[s] += inverse @ (r[s] - rows_s @ y)
+            return y
+
+        def cycle(r):
+            y = sweep(r, np.zeros(len(u)), blocks)
+            y = y + pu @ coarse_solve(pu.T @ (r - kc @ y))
+            return sweep(r, y, blocks[::-1])
+
+        def prec(r):
+            y = np.zeros(n)
+            y[diagonal] = r[diagonal] / d
+            yu = cycle(r[u] + e * (bt @ (r[active] / w)))
+            y[u] = yu
+            y[active] = e * (b @ yu - r[active]) / w
+            return y
+
+        t = time.time()
+        y, its = gmres_right(a, prec, rhs, maxit=300)
+        res = np.linalg.norm(rhs - a @ y) / np.linalg.norm(rhs)
+        print(f"  F = {factor:g}: {len(blocks)} patches, {storage / 1e6:.1f} M dense entries "
+              f"({storage / a.nnz:.1f} x the matrix); {'own' if args.own else 'Galerkin'} coarse: "
+              f"{its} iterations, true relative residual {res:.1e}, {time.time() - t:.1f} s", flush=True)
 
 
 def displacement_block(a, p, classes, x, sweeps, modes, patch_size=None):
