@@ -1482,6 +1482,9 @@ pub struct EggBoxAdaptive {
     /// Unknowns at most of a level (`--max-dofs`; `None`: the case's, the
     /// default 200 000).
     pub max_dofs: Option<usize>,
+    /// Mark the contact-edge elements' neighbours too (the case's default;
+    /// `--no-edge-neighbours`: `[discretization] edge_neighbours = false`).
+    pub edge_neighbours: bool,
 }
 
 /// Refinement levels at most of the 3D benchmark of issue 12 (`tcgen bench
@@ -1518,6 +1521,13 @@ impl EggBoxMesh {
                 "0 unless --fixed (the adaptive benchmark refines by itself)",
             ));
         }
+        if fixed && !adaptive.edge_neighbours {
+            return Err(Error::invalid(
+                "--no-edge-neighbours",
+                "given",
+                "absent with --fixed (it applies to the adaptive levels)",
+            ));
+        }
         if fixed && let Some(n) = adaptive.max_dofs {
             return Err(Error::invalid(
                 "--max-dofs",
@@ -1547,6 +1557,7 @@ pub fn egg_box_case(mesh: EggBoxMesh) -> Result<crate::sample::Case> {
             crate::sample::case::check_max_levels("--max-levels", a.max_levels)?;
             case.discretization.target_error = Some(a.target);
             case.discretization.max_levels = a.max_levels;
+            case.discretization.edge_neighbours = a.edge_neighbours;
             if let Some(n) = a.max_dofs {
                 crate::sample::case::check_max_dofs("--max-dofs", n)?;
                 case.discretization.max_dofs = n;
@@ -1604,9 +1615,14 @@ pub fn format_egg_box_bench(
     let d = &case.discretization;
     let mesh = match d.target_error {
         Some(t) => format!(
-            "adaptive to {} % with at most {} levels",
+            "adaptive to {} % with at most {} levels{}",
             100.0 * t,
-            d.max_levels
+            d.max_levels,
+            if d.edge_neighbours {
+                ""
+            } else {
+                ", the contact-edge elements without their neighbours"
+            }
         ),
         None => format!("fixed mesh, interface_levels = {}", d.interface_levels),
     };
@@ -1700,6 +1716,7 @@ mod tests {
             target,
             max_levels,
             max_dofs,
+            edge_neighbours: true,
         };
         let mesh = |fixed, levels, a| EggBoxMesh::from_options(fixed, levels, a);
         let case_of = |a| egg_box_case(EggBoxMesh::Adaptive(a));
@@ -1735,6 +1752,20 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("--max-dofs") && e.contains("--fixed"), "{e}");
+        let without = EggBoxAdaptive {
+            edge_neighbours: false,
+            ..a
+        };
+        let e = mesh(true, 0, without).unwrap_err().to_string();
+        assert!(
+            e.contains("--no-edge-neighbours") && e.contains("--fixed"),
+            "{e}"
+        );
+        let c = case_of(without).unwrap();
+        assert!(!c.discretization.edge_neighbours);
+        assert!(case_of(a).unwrap().discretization.edge_neighbours);
+        let text = format_egg_box_bench(&c, Default::default(), &[]);
+        assert!(text.contains("without their neighbours"), "{text}");
         let c = egg_box_case(mesh(true, 1, a).unwrap()).unwrap();
         assert_eq!(c.discretization.interface_levels, 1);
         assert_eq!(c.discretization.target_error, None);

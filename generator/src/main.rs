@@ -171,6 +171,10 @@ enum Command {
         /// (default: the case's `max_dofs`, 200 000).
         #[arg(long)]
         max_dofs: Option<usize>,
+        /// The adaptive egg-box benchmark marking the contact-edge elements
+        /// without their neighbours (`[discretization] edge_neighbours = false`).
+        #[arg(long)]
+        no_edge_neighbours: bool,
         /// The egg-box benchmark on the case's fixed mesh (refined `--levels`
         /// times at the interface) instead of adaptive to `--target`.
         #[arg(long)]
@@ -1131,6 +1135,7 @@ fn main() -> ExitCode {
             levels,
             max_levels,
             max_dofs,
+            no_edge_neighbours,
             fixed,
         } => {
             let run = || -> tcgen::Result<()> {
@@ -1139,6 +1144,7 @@ fn main() -> ExitCode {
                         target,
                         max_levels,
                         max_dofs,
+                        edge_neighbours: !no_edge_neighbours,
                     };
                     let mesh = tcgen::bench::EggBoxMesh::from_options(fixed, levels, adaptive)?;
                     let case = tcgen::bench::egg_box_case(mesh)?;

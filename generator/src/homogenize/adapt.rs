@@ -142,8 +142,15 @@ pub fn column(patch: &ThbPatch, c: Cell, normal: usize, side: Side) -> Vec<Cell>
 ///
 /// `misfit`: slave face elements out of contact to mark as well
 /// ([`surface_misfit_marks`]: where the fitted faces may hide a touch of the
-/// exact surfaces).
-pub fn mark_contact_edges(model: &Model, slave: usize, misfit: &BTreeSet<usize>) -> Result<Marks> {
+/// exact surfaces). `neighbours`: the marked slave elements' neighbours and
+/// those of the master elements their points see are marked too
+/// (`[discretization] edge_neighbours`).
+pub fn mark_contact_edges(
+    model: &Model,
+    slave: usize,
+    misfit: &BTreeSet<usize>,
+    neighbours: bool,
+) -> Result<Marks> {
     let c: &ContactInterface = model
         .contact
         .as_ref()
@@ -190,7 +197,14 @@ pub fn mark_contact_edges(model: &Model, slave: usize, misfit: &BTreeSet<usize>)
             (0..mface.n_elements()).collect(),
         )
     } else {
-        let slave_set = with_neighbours(sface, &edges);
+        let ring = |face: &ThbPatch, set: BTreeSet<usize>| {
+            if neighbours {
+                with_neighbours(face, &set)
+            } else {
+                set
+            }
+        };
+        let slave_set = ring(sface, edges);
         let seen: BTreeSet<usize> = c
             .points
             .iter()
@@ -198,7 +212,7 @@ pub fn mark_contact_edges(model: &Model, slave: usize, misfit: &BTreeSet<usize>)
             .filter(|(p, _)| slave_set.contains(&p.element))
             .map(|(_, st)| st.master_element())
             .collect();
-        (slave_set, with_neighbours(mface, &seen))
+        (slave_set, ring(mface, seen))
     };
     let mut marks = Marks::default();
     for (body, face, set) in [(slave, sface, slave_set), (master, mface, master_set)] {

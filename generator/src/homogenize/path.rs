@@ -770,7 +770,7 @@ impl<'a> PathSolver<'a> {
                     misfit.len()
                 );
             }
-            let mut marks = mark_contact_edges(src, slave, &misfit)?;
+            let mut marks = mark_contact_edges(src, slave, &misfit, d.edge_neighbours)?;
             if let Some((rec, error)) = bulk.take()
                 && error > bulk_threshold
             {

@@ -276,7 +276,7 @@ fn the_equation_prolongation_carries_the_state_over() {
     let mut s = PathSolver::new(&c).unwrap();
     s.solve_pressure(3.0e5).unwrap();
     s.model.prepare_contact().unwrap();
-    let marks = mark_contact_edges(&s.model, UPPER, &Default::default()).unwrap();
+    let marks = mark_contact_edges(&s.model, UPPER, &Default::default(), true).unwrap();
     assert!(!marks.upper.is_empty() && !marks.lower.is_empty());
     let bodies = refine_bodies(&s.bodies, &marks);
     let mut f = PathSolver::with_bodies(&c, s.geometry.clone(), bodies).unwrap();
@@ -452,24 +452,35 @@ fn westergaard_adaptive_meets_the_closed_forms() {
 /// zero of the 3D dent of docs/adaptivity.md), which made a level's
 /// re-solve at the same loads a varying load, cut back on failure eight
 /// times to the same non-finite residual. The egg box of
-/// `tables/egg_box_on_flat.toml` on 4 × 4 × 2 / 3 × 3 × 2 at 30 kPa,
-/// refined twice at its contact edges.
-#[test]
-fn a_state_carried_over_in_3d_holds_its_prescribed_values() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tables/egg_box_on_flat.toml");
-    let mut c = Case::read(&path).unwrap();
+/// `tables/egg_box_on_flat.toml`.
+fn egg_box_path() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../tables/egg_box_on_flat.toml")
+}
+
+/// The egg box of `tables/egg_box_on_flat.toml` on 4 × 4 × 2 / 3 × 3 × 2,
+/// plain two-phase, at 30 kPa.
+fn small_egg_box() -> Case {
+    let mut c = Case::read(&egg_box_path()).unwrap();
     let d = &mut c.discretization;
     d.elements_upper = [4, 4, 2].into();
     d.elements_lower = [3, 3, 2].into();
     c.homogenization.method = Method::TwoPhase;
     c.load.pressures = vec![3.0e4];
+    c
+}
+
+/// `tables/egg_box_on_flat.toml` on 4 × 4 × 2 / 3 × 3 × 2 at 30 kPa,
+/// refined twice at its contact edges.
+#[test]
+fn a_state_carried_over_in_3d_holds_its_prescribed_values() {
+    let c = small_egg_box();
     let mut s = PathSolver::new(&c).unwrap();
     s.solve_pressure(3.0e4).unwrap();
     let mut model = s.model;
     let mut bodies = s.bodies;
     for level in 1..=2 {
         model.prepare_contact().unwrap();
-        let marks = mark_contact_edges(&model, UPPER, &Default::default()).unwrap();
+        let marks = mark_contact_edges(&model, UPPER, &Default::default(), true).unwrap();
         bodies = refine_bodies(&bodies, &marks);
         let mut f = PathSolver::with_bodies(&c, s.geometry.clone(), bodies.clone()).unwrap();
         transfer_state(&model, &mut f.model);
@@ -479,6 +490,41 @@ fn a_state_carried_over_in_3d_holds_its_prescribed_values() {
         );
         model = f.model;
     }
+}
+
+/// `[discretization] edge_neighbours = false` marks the contact-edge
+/// elements without their neighbours: on the 3D egg box of
+/// `tables/egg_box_on_flat.toml` (4 × 4 × 2 / 3 × 3 × 2 at 30 kPa) a strict
+/// subset of the cells marked with them, on both bodies, and the key is read
+/// from a case (default `true`).
+#[test]
+fn marks_without_the_edge_neighbours_are_a_strict_subset() {
+    let c = small_egg_box();
+    let mut s = PathSolver::new(&c).unwrap();
+    s.solve_pressure(3.0e4).unwrap();
+    assert!(c.discretization.edge_neighbours);
+    s.model.prepare_contact().unwrap();
+    let with = mark_contact_edges(&s.model, UPPER, &Default::default(), true).unwrap();
+    let without = mark_contact_edges(&s.model, UPPER, &Default::default(), false).unwrap();
+    let set = |cells: &[_]| {
+        cells
+            .iter()
+            .copied()
+            .collect::<std::collections::BTreeSet<_>>()
+    };
+    for (a, b) in [(&without.upper, &with.upper), (&without.lower, &with.lower)] {
+        let (a, b) = (set(a), set(b));
+        assert!(!a.is_empty());
+        assert!(a.is_subset(&b));
+        assert!(a.len() < b.len(), "{} against {}", a.len(), b.len());
+    }
+    let path = egg_box_path();
+    let text = std::fs::read_to_string(&path).unwrap().replace(
+        "[discretization]",
+        "[discretization]\nedge_neighbours = false",
+    );
+    let c = Case::from_toml(&text, path.parent().unwrap()).unwrap();
+    assert!(!c.discretization.edge_neighbours);
 }
 
 /// The 3D thermal phase on the contact zone (`thermal_zone = true`) solves
