@@ -105,6 +105,8 @@ def main():
     ap.add_argument("--rows", action="store_true")
     ap.add_argument("--own", action="store_true")
     args = ap.parse_args()
+    if args.smoother == "condensed" and not args.patches:
+        ap.error("condensed needs --patches W S")
 
     a, coarse, p, classes, x = load(args.dir, args.level)
     if args.smoother == "sgs":
@@ -234,6 +236,18 @@ def patches(a, x, width, stride):
     return out
 
 
+def patch_sweep(blocks, r, y):
+    """One multiplicative sweep over `blocks` (from `patches`) in their order."""
+    for s, rows, inverse in blocks:
+        y[s] += inverse @ (r[s] - rows @ y)
+    return y
+
+
+def seen_columns(p):
+    """`p` without the columns no row reaches (e.g. the placeholders of periodic copies)."""
+    return p[:, np.flatnonzero(np.asarray(abs(p).sum(0)).ravel() > 0)].tocsr()
+
+
 def condensed(a, coarse_own, p, classes, x, args):
     """The `condensed` experiment: GMRES on the whole system, preconditioned by the
     condensation of the active multipliers with a larger augmentation, whose displacement
@@ -264,8 +278,7 @@ def condensed(a, coarse_own, p, classes, x, args):
             z[cu] = r
             return own.solve(z)[cu]
     else:
-        pu = p.tocsr()[u].tocsc()
-        pu = pu[:, np.flatnonzero(np.asarray(abs(pu).sum(0)).ravel() > 0)].tocsr()
+        pu = seen_columns(p.tocsr()[u].tocsc())
     print(f"level {args.level}: {n} equations, {len(u)} displacements, {len(active)} active multipliers")
     rhs = np.random.default_rng(0).standard_normal(n)
     d = a.diagonal()[diagonal]
@@ -283,15 +296,10 @@ def condensed(a, coarse_own, p, classes, x, args):
                 blocks.append((s, kc[s], np.linalg.inv(kc[s][:, s].toarray())))
         storage = sum(len(s) ** 2 for s, _, _ in blocks)
 
-        def sweep(r, y, order):
-            for s, rows_s, inverse in order:
-                y[s] += inverse @ (r[s] - rows_s @ y)
-            return y
-
         def cycle(r):
-            y = sweep(r, np.zeros(len(u)), blocks)
+            y = patch_sweep(blocks, r, np.zeros(len(u)))
             y = y + pu @ coarse_solve(pu.T @ (r - kc @ y))
-            return sweep(r, y, blocks[::-1])
+            return patch_sweep(blocks[::-1], r, y)
 
         def prec(r):
             y = np.zeros(n)
@@ -316,7 +324,7 @@ def displacement_block(a, p, classes, x, sweeps, modes, patch_size=None):
     bulk = np.flatnonzero(classes < 2)
     a = a.tocsr()[bulk][:, bulk].tocsr()
     p = p.tocsr()[bulk].tocsc()
-    p = p[:, np.flatnonzero(np.asarray(abs(p).sum(0)).ravel() > 0)].tocsr()
+    p = seen_columns(p)
     n = a.shape[0]
     coarse = sla.splu((p.T @ a @ p).tocsc())
     print(f"displacement block: {n} equations, {a.nnz} entries; Galerkin coarse {p.shape[1]}")
@@ -336,8 +344,7 @@ def displacement_block(a, p, classes, x, sweeps, modes, patch_size=None):
 
         def sweep(r, y, triangle, is_lower):
             for _ in range(sweeps):
-                for s, rows, inverse in (blocks if is_lower else blocks[::-1]):
-                    y[s] += inverse @ (r[s] - rows @ y)
+                y = patch_sweep(blocks if is_lower else blocks[::-1], r, y)
             return y
 
     def cycle(r):
