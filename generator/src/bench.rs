@@ -1482,8 +1482,9 @@ pub struct EggBoxAdaptive {
     /// Unknowns at most of a level (`--max-dofs`; `None`: the case's, the
     /// default 200 000).
     pub max_dofs: Option<usize>,
-    /// Mark the contact-edge elements' neighbours too (the case's default;
-    /// `--no-edge-neighbours`: `[discretization] edge_neighbours = false`).
+    /// Mark the contact-edge elements' neighbours too (`--edge-neighbours`:
+    /// `[discretization] edge_neighbours = true`; the 3D default leaves them
+    /// out since stop 85).
     pub edge_neighbours: bool,
 }
 
@@ -1521,9 +1522,9 @@ impl EggBoxMesh {
                 "0 unless --fixed (the adaptive benchmark refines by itself)",
             ));
         }
-        if fixed && !adaptive.edge_neighbours {
+        if fixed && adaptive.edge_neighbours {
             return Err(Error::invalid(
-                "--no-edge-neighbours",
+                "--edge-neighbours",
                 "given",
                 "absent with --fixed (it applies to the adaptive levels)",
             ));
@@ -1557,7 +1558,9 @@ pub fn egg_box_case(mesh: EggBoxMesh) -> Result<crate::sample::Case> {
             crate::sample::case::check_max_levels("--max-levels", a.max_levels)?;
             case.discretization.target_error = Some(a.target);
             case.discretization.max_levels = a.max_levels;
-            case.discretization.edge_neighbours = a.edge_neighbours;
+            if a.edge_neighbours {
+                case.discretization.edge_neighbours = Some(true);
+            }
             if let Some(n) = a.max_dofs {
                 crate::sample::case::check_max_dofs("--max-dofs", n)?;
                 case.discretization.max_dofs = n;
@@ -1615,14 +1618,10 @@ pub fn format_egg_box_bench(
     let d = &case.discretization;
     let mesh = match d.target_error {
         Some(t) => format!(
-            "adaptive to {} % with at most {} levels{}",
+            "adaptive to {} % with at most {} levels, marking {}",
             100.0 * t,
             d.max_levels,
-            if d.edge_neighbours {
-                ""
-            } else {
-                ", the contact-edge elements without their neighbours"
-            }
+            d.edge_marks_in(case.dimension())
         ),
         None => format!("fixed mesh, interface_levels = {}", d.interface_levels),
     };
@@ -1716,7 +1715,7 @@ mod tests {
             target,
             max_levels,
             max_dofs,
-            edge_neighbours: true,
+            edge_neighbours: false,
         };
         let mesh = |fixed, levels, a| EggBoxMesh::from_options(fixed, levels, a);
         let case_of = |a| egg_box_case(EggBoxMesh::Adaptive(a));
@@ -1752,20 +1751,26 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("--max-dofs") && e.contains("--fixed"), "{e}");
-        let without = EggBoxAdaptive {
-            edge_neighbours: false,
+        // The 3D default marks the edge elements alone; `--edge-neighbours`
+        // their neighbours too, and is refused with `--fixed`.
+        let with = EggBoxAdaptive {
+            edge_neighbours: true,
             ..a
         };
-        let e = mesh(true, 0, without).unwrap_err().to_string();
+        let e = mesh(true, 0, with).unwrap_err().to_string();
         assert!(
-            e.contains("--no-edge-neighbours") && e.contains("--fixed"),
+            e.contains("--edge-neighbours") && e.contains("--fixed"),
             "{e}"
         );
-        let c = case_of(without).unwrap();
-        assert!(!c.discretization.edge_neighbours);
-        assert!(case_of(a).unwrap().discretization.edge_neighbours);
+        let c = case_of(a).unwrap();
+        assert_eq!(c.discretization.edge_neighbours, None);
+        assert!(!c.discretization.edge_neighbours_in(3));
         let text = format_egg_box_bench(&c, Default::default(), &[]);
         assert!(text.contains("without their neighbours"), "{text}");
+        let c = case_of(with).unwrap();
+        assert_eq!(c.discretization.edge_neighbours, Some(true));
+        let text = format_egg_box_bench(&c, Default::default(), &[]);
+        assert!(text.contains("elements and their neighbours"), "{text}");
         let c = egg_box_case(mesh(true, 1, a).unwrap()).unwrap();
         assert_eq!(c.discretization.interface_levels, 1);
         assert_eq!(c.discretization.target_error, None);

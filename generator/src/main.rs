@@ -171,10 +171,11 @@ enum Command {
         /// (default: the case's `max_dofs`, 200 000).
         #[arg(long)]
         max_dofs: Option<usize>,
-        /// The adaptive egg-box benchmark marking the contact-edge elements
-        /// without their neighbours (`[discretization] edge_neighbours = false`).
+        /// The adaptive egg-box benchmark marking the contact-edge elements'
+        /// neighbours too (`[discretization] edge_neighbours = true`; the 3D
+        /// default leaves them out).
         #[arg(long)]
-        no_edge_neighbours: bool,
+        edge_neighbours: bool,
         /// The egg-box benchmark on the case's fixed mesh (refined `--levels`
         /// times at the interface) instead of adaptive to `--target`.
         #[arg(long)]
@@ -751,8 +752,9 @@ fn check(file: &std::path::Path, threads: Option<usize>) -> ExitCode {
     );
     if d.target_error.is_some() {
         println!(
-            "# adaptive (target_error {}): meshes grow up to max_dofs = {} unknowns, about {} per solve at that size; Newton's relative tolerance {:.0e} (at least {:.0e} · target_error)",
+            "# adaptive (target_error {}), marking {}: meshes grow up to max_dofs = {} unknowns, about {} per solve at that size; Newton's relative tolerance {:.0e} (at least {:.0e} · target_error)",
             d.target_error.unwrap_or_default(),
+            d.edge_marks_in(dim),
             d.max_dofs,
             format_bytes(resources::memory_for(
                 d.max_dofs,
@@ -1135,7 +1137,7 @@ fn main() -> ExitCode {
             levels,
             max_levels,
             max_dofs,
-            no_edge_neighbours,
+            edge_neighbours,
             fixed,
         } => {
             let run = || -> tcgen::Result<()> {
@@ -1144,7 +1146,7 @@ fn main() -> ExitCode {
                         target,
                         max_levels,
                         max_dofs,
-                        edge_neighbours: !no_edge_neighbours,
+                        edge_neighbours,
                     };
                     let mesh = tcgen::bench::EggBoxMesh::from_options(fixed, levels, adaptive)?;
                     let case = tcgen::bench::egg_box_case(mesh)?;

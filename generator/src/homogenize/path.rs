@@ -770,7 +770,8 @@ impl<'a> PathSolver<'a> {
                     misfit.len()
                 );
             }
-            let mut marks = mark_contact_edges(src, slave, &misfit, d.edge_neighbours)?;
+            let neighbours = d.edge_neighbours_in(case.dimension());
+            let mut marks = mark_contact_edges(src, slave, &misfit, neighbours)?;
             if let Some((rec, error)) = bulk.take()
                 && error > bulk_threshold
             {

@@ -190,20 +190,17 @@ pub struct DiscretizationSection {
     /// Adaptivity refines at most this many times per pressure.
     pub max_levels: usize,
     /// Adaptivity marks the neighbours of the contact-edge elements too, on
-    /// both faces (`homogenize::adapt::mark_contact_edges`). `false`: the
+    /// both faces (`homogenize::adapt::mark_contact_edges`); `false`: the
     /// edge elements alone, at p ≥ 2 already a band about two elements wide
-    /// on each side of the edge; on the 3D benchmark path its levels have
-    /// about two thirds of the unknowns for the same jumps (docs/3d.md,
-    /// "Stop 84"). Written only where `false`, so that the configuration
-    /// hashes of the cases that keep the default (tables, their resumption)
-    /// do not change.
-    #[serde(skip_serializing_if = "is_true")]
-    pub edge_neighbours: bool,
-}
-
-/// Whether a flag holds its default `true` (not written, above).
-fn is_true(b: &bool) -> bool {
-    *b
+    /// on each side of the edge. `None`: by dimension and degree
+    /// ([`DiscretizationSection::edge_neighbours_in`]): without the
+    /// neighbours in 3D at p ≥ 2, where the levels have about two thirds of
+    /// the unknowns for jumps within their estimates (docs/3d.md, "Stop 84"
+    /// and "Stop 85"); with them in 2D and at p = 1, whose edge band is one
+    /// element wide (without the neighbours the 3D p = 1 egg box's second
+    /// level cycled).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub edge_neighbours: Option<bool>,
 }
 
 impl Default for DiscretizationSection {
@@ -236,7 +233,31 @@ impl DiscretizationSection {
             target_error: None,
             max_dofs: 200_000,
             max_levels: 10,
-            edge_neighbours: true,
+            edge_neighbours: None,
+        }
+    }
+
+    /// Whether adaptivity marks the contact-edge elements' neighbours too in
+    /// `dimension` (`edge_neighbours`, by default
+    /// [`DiscretizationSection::edge_neighbours_by_default`]).
+    pub fn edge_neighbours_in(&self, dimension: usize) -> bool {
+        self.edge_neighbours
+            .unwrap_or_else(|| self.edge_neighbours_by_default(dimension))
+    }
+
+    /// The default of `edge_neighbours` in `dimension`: in 2D, and in 3D at
+    /// degree 1.
+    pub fn edge_neighbours_by_default(&self, dimension: usize) -> bool {
+        dimension == 2 || self.degree == 1
+    }
+
+    /// What adaptivity marks at the contact edges in `dimension`, in words
+    /// (the headers of `tcgen solve` and `tcgen bench`).
+    pub fn edge_marks_in(&self, dimension: usize) -> &'static str {
+        if self.edge_neighbours_in(dimension) {
+            "the contact-edge elements and their neighbours"
+        } else {
+            "the contact-edge elements without their neighbours"
         }
     }
 

@@ -388,6 +388,14 @@ fn resolved_case_table(case: &Case) -> Result<toml::Table> {
     case.contact.mechanical_penalty = Some(case.contact.mechanical_penalty.unwrap_or(1.0));
     // The thermal phase's contact zone: by dimension unless given.
     case.contact.thermal_zone = Some(case.contact.thermal_zone_in(case.dimension()));
+    // The contact-edge marks' neighbours: explicit unless marked by default,
+    // the only behaviour before the key existed (those tables keep the
+    // hashes they were built with; the 3D default at p ≥ 2 changed in stop
+    // 85, and those cases now write `false`).
+    let dim = case.dimension();
+    let d = &mut case.discretization;
+    let neighbours = d.edge_neighbours_in(dim);
+    d.edge_neighbours = (!(neighbours && d.edge_neighbours_by_default(dim))).then_some(neighbours);
     // Random surfaces: the stream of each body and the self-affine roll-off
     // (default the width) explicit; `exact_rms` is always written.
     let width = case.sample.width;

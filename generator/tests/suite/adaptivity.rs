@@ -495,14 +495,21 @@ fn a_state_carried_over_in_3d_holds_its_prescribed_values() {
 /// `[discretization] edge_neighbours = false` marks the contact-edge
 /// elements without their neighbours: on the 3D egg box of
 /// `tables/egg_box_on_flat.toml` (4 × 4 × 2 / 3 × 3 × 2 at 30 kPa) a strict
-/// subset of the cells marked with them, on both bodies, and the key is read
-/// from a case (default `true`).
+/// subset of the cells marked with them, on both bodies. The key is read
+/// from a case; absent, it is `true` in 2D and at p = 1, `false` in 3D at
+/// p ≥ 2 (since stop 85), and the resolved configuration (the tables'
+/// hash) writes it unless the neighbours are marked by default, so that
+/// the tables built before the key existed keep their hashes where their
+/// marks did not change.
 #[test]
 fn marks_without_the_edge_neighbours_are_a_strict_subset() {
+    use tcgen::sweep::config::resolved_case;
     let c = small_egg_box();
     let mut s = PathSolver::new(&c).unwrap();
     s.solve_pressure(3.0e4).unwrap();
-    assert!(c.discretization.edge_neighbours);
+    assert_eq!(c.discretization.edge_neighbours, None);
+    assert!(!c.discretization.edge_neighbours_in(3));
+    assert!(c.discretization.edge_neighbours_in(2));
     s.model.prepare_contact().unwrap();
     let with = mark_contact_edges(&s.model, UPPER, &Default::default(), true).unwrap();
     let without = mark_contact_edges(&s.model, UPPER, &Default::default(), false).unwrap();
@@ -519,12 +526,51 @@ fn marks_without_the_edge_neighbours_are_a_strict_subset() {
         assert!(a.len() < b.len(), "{} against {}", a.len(), b.len());
     }
     let path = egg_box_path();
-    let text = std::fs::read_to_string(&path).unwrap().replace(
-        "[discretization]",
-        "[discretization]\nedge_neighbours = false",
-    );
-    let c = Case::from_toml(&text, path.parent().unwrap()).unwrap();
-    assert!(!c.discretization.edge_neighbours);
+    let read = |key: &str, dimension: usize, degree: usize| {
+        let text = std::fs::read_to_string(&path)
+            .unwrap()
+            .replace("[discretization]", &format!("[discretization]\n{key}"))
+            .replace("dimension = 3", &format!("dimension = {dimension}"))
+            .replace("degree = 2", &format!("degree = {degree}"));
+        let text = if dimension == 2 {
+            // The 2D sample of the same surfaces: a profile, two counts.
+            text.replace("pattern = \"egg-box\"", "")
+                .replace("[8, 8, 4]", "[8, 4]")
+                .replace("[7, 7, 4]", "[7, 4]")
+        } else {
+            text
+        };
+        Case::from_toml(&text, path.parent().unwrap()).unwrap()
+    };
+    let written = |c: &Case| {
+        resolved_case(c)
+            .unwrap()
+            .lines()
+            .find(|l| l.starts_with("edge_neighbours"))
+            .map(str::to_string)
+    };
+    let (t, f) = ("edge_neighbours = true", "edge_neighbours = false");
+    for (key, dimension, degree, value, line) in [
+        ("", 3, 2, false, Some(f)),
+        (t, 3, 2, true, Some(t)),
+        ("", 3, 1, true, None),
+        (t, 3, 1, true, None),
+        (f, 3, 1, false, Some(f)),
+        ("", 2, 2, true, None),
+        (t, 2, 2, true, None),
+        (f, 2, 2, false, Some(f)),
+    ] {
+        let c = read(key, dimension, degree);
+        assert_eq!(c.dimension(), dimension);
+        assert_eq!(c.discretization.degree, degree);
+        let d = &c.discretization;
+        assert_eq!(d.edge_neighbours_in(dimension), value, "{key}");
+        assert_eq!(
+            written(&c).as_deref(),
+            line,
+            "{key} in {dimension}D, p = {degree}"
+        );
+    }
 }
 
 /// The 3D thermal phase on the contact zone (`thermal_zone = true`) solves

@@ -372,16 +372,18 @@ fn long_egg_box_conductance_on_three_meshes() {
 }
 
 /// The adaptive 3D levels against the boundary elements
-/// (`TCGEN_LONG_TESTS=1`; 72 s and 4.6 GB on 2 cores): the
+/// (`TCGEN_LONG_TESTS=1`; about a minute and 4 GB on 2 cores): the
 /// catalogue's egg box at 0.1 p*, shifted by a quarter wavelength, adaptive
-/// from 8 × 8 × 3 / 7 × 7 × 3 to three levels (53 780 unknowns), the
-/// thermal phase on the contact zone and on the nodal supports. The
-/// third level's conductance is within 2 % of Barber's analogy of the
-/// boundary-element stiffness (measured: zone +1.52 %, supports −0.29 % in
-/// jump; level 4, not run here: +0.49 % and −0.08 %), and the two-level
-/// estimate of order 3/2 (`level_error_ratio(3)`) bounds the error and
-/// stays below 5 % of the jump (3.9 and 4.6 %; the first-order estimate
-/// gave 10.1 and 11.8 %); the zone's effectivity is within 0.5–3 (2.6).
+/// from 8 × 8 × 3 / 7 × 7 × 3 to three levels (38 924 unknowns; 53 780 with
+/// the edge elements' neighbours marked, before stop 85), the thermal phase
+/// on the contact zone and on the nodal supports. The third level's
+/// conductance is within 2 % of Barber's analogy of the boundary-element
+/// stiffness (measured: zone +1.61 %, supports −0.45 % in jump; with the
+/// neighbours +1.52 and −0.29 %, level 4 +0.49 and −0.08 %), and the
+/// two-level estimate of order 3/2 (`level_error_ratio(3)`) bounds the
+/// error and stays below 5 % of the jump (2.85 and 4.40 %; with the
+/// neighbours 3.9 and 4.6 %; the first-order estimate gave 10.1 and
+/// 11.8 %); the zone's effectivity is within 0.5–3 (1.80).
 #[test]
 fn long_adaptive_egg_box_against_boundary_elements() {
     use tcgen::verify::contact::egg_box::bem_reference;
@@ -483,16 +485,18 @@ fn adaptive_egg_box_against(
 }
 
 /// The adaptive 3D levels at small spots against the boundary elements
-/// (`TCGEN_LONG_TESTS=1`; 4:28 and 2.8 GB on 2 cores shared with a CI
-/// run): the egg box of the test above at 0.002 and
+/// (`TCGEN_LONG_TESTS=1`; about 2 minutes and 3 GB on 2 cores): the egg
+/// box of the test above at 0.002 and
 /// 0.01 `p*` (contact fractions 1.2 and 3.7 %, as at the benchmark egg
 /// box's lowest pressures; `bem_reference_small_spots`, within about 0.2 %
 /// of its grid limit), adaptive to four levels, the thermal phase on the
 /// nodal supports (the 3D default). The fourth level's jump is within
 /// 1.5 % of Barber's analogy of the boundary-element stiffness (measured:
-/// −0.68 and +0.16 %; 37 492 and 50 996 unknowns), and the estimate bounds
-/// the error (measured: 6.99 and 1.97 % of the jump, docs/3d.md, "Small
-/// spots against the boundary elements").
+/// −0.49 and +0.12 %; 22 884 and 34 924 unknowns; with the edge elements'
+/// neighbours marked, before stop 85, −0.68 and +0.16 % on 37 492 and
+/// 50 996), and the estimate bounds the error (measured: 6.61 and 1.76 % of
+/// the jump; docs/3d.md, "Small spots against the boundary elements" and
+/// "Stop 85").
 #[test]
 fn long_adaptive_egg_box_small_spots_against_boundary_elements() {
     adaptive_egg_box_supports_at(
@@ -531,20 +535,24 @@ fn adaptive_egg_box_supports_at(
 }
 
 /// The adaptive 3D levels at high contact fractions against the boundary
-/// elements (`TCGEN_LONG_TESTS=1`; 3:33 and 4.7 GB on 2 cores): the egg
-/// box of the tests above at 0.5 and 0.7 `p*` (contact fractions 70 and
-/// 84 %, the benchmark egg box's at 244 kPa and above), adaptive to three levels, the thermal phase on the
-/// nodal supports. The third level's jump is within 1 % of Barber's analogy
-/// of the boundary-element stiffness (measured: +0.45 and −0.15 %; 66 436
-/// and 59 932 unknowns; level 4, not run here: +0.26 and −1.33 %, estimates
-/// 1.2 and 2.0 %), and the estimate bounds the error (docs/3d.md, "Adaptive
-/// levels against the boundary elements").
+/// elements (`TCGEN_LONG_TESTS=1`; about 4 minutes and 9.2 GB on 2 cores):
+/// the egg box of the tests above at 0.5 and 0.7 `p*` (contact fractions 70
+/// and 84 %, the benchmark egg box's at 244 kPa and above), adaptive to four
+/// levels, the thermal phase on the nodal supports. The fourth level's jump
+/// is within 1 % of Barber's analogy of the boundary-element stiffness
+/// (measured: +0.38 and −0.75 %; 120 336 and 84 300 unknowns; estimates
+/// 0.92 and 2.10 %), and the estimate bounds the error (docs/3d.md,
+/// "Adaptive levels against the boundary elements" and "Stop 85"). Level 3
+/// (50 916 and 46 324 unknowns) is −1.31 and +0.37 % off, estimates 2.07
+/// and 5.87 %; with the edge elements' neighbours marked (before stop 85)
+/// it was +0.45 and −0.15 % on 66 436 and 59 932 unknowns, level 4 +0.26
+/// and −1.33 %.
 #[test]
 fn long_adaptive_egg_box_high_contact_against_boundary_elements() {
     adaptive_egg_box_supports_at(
         tcgen::verify::contact::egg_box::bem_reference,
         &[0.5, 0.7],
-        3,
+        4,
         0.01,
         "egg_box_high_contact",
     );
