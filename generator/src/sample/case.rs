@@ -252,7 +252,7 @@ impl DiscretizationSection {
     }
 
     /// What adaptivity marks at the contact edges in `dimension`, in words
-    /// (the headers of `tcgen solve` and `tcgen bench`).
+    /// (`tcgen check`'s adaptive line and `tcgen bench`'s header).
     pub fn edge_marks_in(&self, dimension: usize) -> &'static str {
         if self.edge_neighbours_in(dimension) {
             "the contact-edge elements and their neighbours"

@@ -856,8 +856,9 @@ fn hbp_validation() -> Result<Vec<Check>> {
 /// uniform in y, on a flat (the Sect. 5.7 sample), solved in 3D on
 /// `[16, 2, 8]` / `[14, 3, 7]` elements and in 2D on `[16, 8]` / `[14, 7]`,
 /// both refined adaptively by the same marking ([`crate::homogenize::adapt`],
-/// the contact-edge elements with their neighbours) for two levels, plain two-phase, thermal contact over the supports of
-/// the active nodes (`thermal_zone = false`) in both. The refined elements
+/// the contact-edge elements with their neighbours) for two levels, plain
+/// two-phase, thermal contact over the supports of the active nodes
+/// (`thermal_zone = false`) in both. The refined elements
 /// carry the exact surface in both dimensions, so the 3D sample is the
 /// plane-strain one wherever the mesh was refined: the jump, mean gap and
 /// approach agree within 2e-3. With the crests on the periodic seam

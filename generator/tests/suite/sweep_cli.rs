@@ -178,10 +178,15 @@ fn output_paths_of_the_wrong_kind_are_refused_before_computing() {
 fn check_prints_the_resolved_case_and_refuses_what_cannot_fit() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let tcgen = || Command::new(env!("CARGO_BIN_EXE_tcgen"));
-    // An adaptive file states the Newton tolerance its solves use.
+    // An adaptive file states the Newton tolerance its solves use and what
+    // its levels mark at the contact edges (2D: with their neighbours).
     let out = succeeded(tcgen().arg("check").arg(root.join("tables/demo.toml")));
     assert!(
         out.contains("Newton's relative tolerance 1e-5 (at least 1e-3 · target_error)"),
+        "{out}"
+    );
+    assert!(
+        out.contains("marking the contact-edge elements and their neighbours"),
         "{out}"
     );
     let o = tcgen()
