@@ -10,8 +10,9 @@ fn run(name: &str) {
     }
 }
 
-/// Fig. 13a: the two-phase jump is the 10 K micro jump for every height and
-/// master (1e−6); the coupled (2.14) follows (2.15) (1e−6).
+/// Fig. 13a: the two-phase and the linearized (3.4) jumps are the 10 K micro
+/// jump for every height and master (1e−6); the coupled (2.14) follows
+/// (2.15) (1e−6).
 #[test]
 fn resistive_interface_size_effects_follow_eq_2_15() {
     run("size_effects_resistive");
