@@ -395,7 +395,11 @@ fn resolved_case_table(case: &Case) -> Result<toml::Table> {
     let dim = case.dimension();
     let d = &mut case.discretization;
     let neighbours = d.edge_neighbours_in(dim);
-    d.edge_neighbours = (!(neighbours && d.edge_neighbours_by_default(dim))).then_some(neighbours);
+    d.edge_neighbours = if neighbours && d.edge_neighbours_by_default(dim) {
+        None
+    } else {
+        Some(neighbours)
+    };
     // Random surfaces: the stream of each body and the self-affine roll-off
     // (default the width) explicit; `exact_rms` is always written.
     let width = case.sample.width;
