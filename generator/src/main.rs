@@ -766,6 +766,30 @@ fn check(file: &std::path::Path, threads: Option<usize>) -> ExitCode {
             tcgen::homogenize::path::newton_target_share(case.dimension())
         );
     }
+    // The 3D cases the project ships integrate with the points the memory
+    // model was fitted at (docs/3d.md, "Stop 87"); a p = 2 case with more
+    // learns what they cost.
+    let points = resources::QuadraturePoints::of(&case);
+    let shipped = resources::QuadraturePoints::fitted(dim);
+    if dim == 3
+        && d.degree == 2
+        && (points.bulk > shipped.bulk || points.interface > shipped.interface)
+    {
+        let at = if d.target_error.is_some() {
+            d.max_dofs
+        } else {
+            e.unknowns
+        };
+        println!(
+            "# quadrature: {b}^3 bulk and {i} x {i} interface points per element; the shipped 3D cases use bulk_points = {} and [contact] interface_points = {} (about {} instead of {} per solve at {at} unknowns, and half the time of the defaults on tables/demo_3d.toml, its jumps within 2e-4: docs/3d.md, \"Stop 87\")",
+            shipped.bulk,
+            shipped.interface,
+            format_bytes(resources::memory_for(at, d.degree, dim, shipped)),
+            format_bytes(resources::memory_for(at, d.degree, dim, points)),
+            b = points.bulk,
+            i = points.interface,
+        );
+    }
     if let Some(note) = paths_note {
         println!("# {note}");
     }

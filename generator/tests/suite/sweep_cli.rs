@@ -382,6 +382,21 @@ fn a_3d_case_is_checked_solved_tabled_and_mapped() {
     ] {
         assert!(out.contains(needle), "{needle:?} not in {out}");
     }
+    // The spec's default points (p + 2 and 8 per direction) are named with
+    // what the shipped cases' points would take; the shipped ones are not.
+    let hint = "# quadrature: 4^3 bulk and 8 x 8 interface points per element; the shipped 3D cases use bulk_points = 3 and [contact] interface_points = 4";
+    assert!(!out.contains("# quadrature:"), "{out}");
+    let defaults: String = std::fs::read_to_string(&case)
+        .unwrap()
+        .lines()
+        .filter(|l| !(l.starts_with("bulk_points") || l.starts_with("interface_points")))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let dir = scratch("cli-3d-points");
+    let file = dir.join("defaults.toml");
+    std::fs::write(&file, defaults).unwrap();
+    let out = succeeded(tcgen().arg("check").arg(&file));
+    assert!(out.contains(hint), "{out}");
     let o = tcgen()
         .arg("check")
         .arg(root.join("tables/sinusoid_on_flat.toml"))
@@ -539,12 +554,13 @@ fn adaptive_paths_that_do_not_fit_side_by_side_run_one_at_a_time() {
     assert!(out.contains(note), "{out}");
     let out = succeeded(tcgen("64G").args(["check", "--threads", "2"]).arg(&sweep));
     assert!(!out.contains("at a time"), "{out}");
-    // The 3D tables: four samples whose levels at max_dofs need about 13 GB
-    // each share 20 GB one at a time; a single path has nothing to share.
+    // The 3D tables: four samples whose levels at max_dofs need about 8.2 GB
+    // each (3 × 3 × 3 bulk and 4 × 4 interface points) share 12 GB one at a
+    // time; a single path has nothing to share.
     let tables = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tables");
     for (file, at_once) in [("nightly_random_3d.toml", true), ("demo_3d.toml", false)] {
         let out = succeeded(
-            tcgen("20G")
+            tcgen("12G")
                 .args(["check", "--threads", "2"])
                 .arg(tables.join(file)),
         );
