@@ -158,15 +158,6 @@ pub fn main_bench(sizes: &[usize]) -> Result<()> {
 pub fn thermoelastic_kernel(element: &BenchElement, k: &mut [f64], r: &mut [f64]) -> Result<()> {
     use crate::bulk::local::{Coupling, ElementFields, element_residual_tangent};
     use crate::geometry::{ElementQuadrature, QuadPoint};
-    use std::cell::RefCell;
-    thread_local! {
-        static QUAD: RefCell<ElementQuadrature> = RefCell::new(ElementQuadrature {
-            conn: (0..9).collect(),
-            points: (0..16)
-                .map(|_| QuadPoint { xi: [0.0; 3], x: [0.0; 3], weight: 0.0, r: vec![0.0; 9], dr_dx: vec![[0.0; 3]; 9] })
-                .collect(),
-        });
-    }
     let nf = element.fields;
     let coupling = match nf {
         1 => Coupling::Thermal,
@@ -179,47 +170,56 @@ pub fn thermoelastic_kernel(element: &BenchElement, k: &mut [f64], r: &mut [f64]
         material.conductivity_slope = 0.0;
     }
     let gauss = crate::quadrature::GaussLegendre::new(4);
-    QUAD.with(|q| -> Result<()> {
-        let mut quad = q.borrow_mut();
-        let mut idx = 0;
-        for (&ty, &wy) in gauss.points.iter().zip(&gauss.weights) {
-            for (&tx, &wx) in gauss.points.iter().zip(&gauss.weights) {
-                let ((nx, dx), (ny, dy)) = (
-                    quadratic_bspline(0.5 * (tx + 1.0)),
-                    quadratic_bspline(0.5 * (ty + 1.0)),
-                );
-                let qp = &mut quad.points[idx];
-                idx += 1;
-                let mut jac = [[0.0; 2]; 2];
-                let mut x = [0.0; 2];
-                for a in 0..9 {
-                    let (lx, ly) = (a % 3, a / 3);
-                    qp.r[a] = nx[lx] * ny[ly];
-                    let dxi = [dx[lx] * ny[ly], nx[lx] * dy[ly]];
-                    for i in 0..2 {
-                        x[i] += qp.r[a] * element.control_points[a][i];
-                        for j in 0..2 {
-                            jac[i][j] += element.control_points[a][i] * dxi[j];
-                        }
+    let (mut points, mut values, mut gradients) = (
+        Vec::with_capacity(16),
+        Vec::with_capacity(16 * 9),
+        Vec::with_capacity(16 * 9),
+    );
+    for (&ty, &wy) in gauss.points.iter().zip(&gauss.weights) {
+        for (&tx, &wx) in gauss.points.iter().zip(&gauss.weights) {
+            let ((nx, dx), (ny, dy)) = (
+                quadratic_bspline(0.5 * (tx + 1.0)),
+                quadratic_bspline(0.5 * (ty + 1.0)),
+            );
+            let mut jac = [[0.0; 2]; 2];
+            let mut x = [0.0; 2];
+            let first = gradients.len();
+            for a in 0..9 {
+                let (lx, ly) = (a % 3, a / 3);
+                let r = nx[lx] * ny[ly];
+                values.push(r);
+                let dxi = [dx[lx] * ny[ly], nx[lx] * dy[ly]];
+                for i in 0..2 {
+                    x[i] += r * element.control_points[a][i];
+                    for j in 0..2 {
+                        jac[i][j] += element.control_points[a][i] * dxi[j];
                     }
-                    qp.dr_dx[a] = [dxi[0], dxi[1], 0.0];
                 }
-                let det = jac[0][0] * jac[1][1] - jac[0][1] * jac[1][0];
-                if det <= 0.0 {
-                    return Err(Error::Geometry(format!(
-                        "bench element {}: Jacobian {det} ≤ 0",
-                        element.index
-                    )));
-                }
-                for g in qp.dr_dx.iter_mut() {
-                    let d = *g;
-                    g[0] = (jac[1][1] * d[0] - jac[1][0] * d[1]) / det;
-                    g[1] = (-jac[0][1] * d[0] + jac[0][0] * d[1]) / det;
-                }
-                qp.x = [x[0], x[1], 0.0];
-                qp.weight = 0.25 * wx * wy * det;
+                gradients.push([dxi[0], dxi[1], 0.0]);
             }
+            let det = jac[0][0] * jac[1][1] - jac[0][1] * jac[1][0];
+            if det <= 0.0 {
+                return Err(Error::Geometry(format!(
+                    "bench element {}: Jacobian {det} ≤ 0",
+                    element.index
+                )));
+            }
+            for g in &mut gradients[first..] {
+                let d = *g;
+                g[0] = (jac[1][1] * d[0] - jac[1][0] * d[1]) / det;
+                g[1] = (-jac[0][1] * d[0] + jac[0][0] * d[1]) / det;
+            }
+            points.push(QuadPoint {
+                xi: [0.0; 3],
+                x: [x[0], x[1], 0.0],
+                weight: 0.25 * wx * wy * det,
+                inverse_jacobian: [[0.0; 3]; 3],
+                weight_function: 1.0,
+            });
         }
+    }
+    let quad = ElementQuadrature::with_gradients(2, (0..9).collect(), points, values, gradients);
+    {
         let u: Vec<[f64; 3]> = element
             .control_points
             .iter()
@@ -248,8 +248,8 @@ pub fn thermoelastic_kernel(element: &BenchElement, k: &mut [f64], r: &mut [f64]
         for i in 0..n {
             k[i + n * i] += 1e-6;
         }
-        Ok(())
-    })
+    }
+    Ok(())
 }
 
 /// The benchmark table, one line per case, times in seconds.

@@ -197,10 +197,12 @@ fn residual_tangent<const D: usize>(
         Some(k) if symmetric => k.to_vec(),
         _ => Vec::new(),
     };
-    for qp in &quad.points {
+    let mut scratch = Vec::new();
+    let gradients = quad.gradients(&mut scratch);
+    for (q, qp) in quad.points.iter().enumerate() {
         let w = qp.weight;
-        let dn = &qp.dr_dx;
-        let nn = &qp.r;
+        let dn = &gradients[q * ncp..(q + 1) * ncp];
+        let nn = quad.values(q);
         let f = deformation_gradient(D, fields.u, dn);
         let mut theta = 0.0;
         let mut grad = Vector3::zeros();

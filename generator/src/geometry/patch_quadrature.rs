@@ -1,11 +1,15 @@
 //! Gauss quadrature over the elements of a NURBS patch and over its boundary faces.
 #![allow(clippy::needless_range_loop)]
 
+use super::KnotVector;
 use super::nurbs::{Element, NurbsPatch, Side};
 use crate::basis::RationalBasis;
 use crate::quadrature::GaussLegendre;
 
-/// One bulk quadrature point.
+/// One bulk quadrature point: where it is, its weight, and the map from
+/// parametric to physical derivatives. The basis values and gradients are
+/// the element's ([`ElementQuadrature::values`],
+/// [`ElementQuadrature::gradients`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct QuadPoint {
     /// Parametric coordinates (unused directions 0).
@@ -14,10 +18,32 @@ pub struct QuadPoint {
     pub x: [f64; 3],
     /// Gauss weight × parametric element scaling × `|det J|`.
     pub weight: f64,
-    /// `R_a` at the point, indexed like [`ElementQuadrature::conn`].
-    pub r: Vec<f64>,
-    /// `∂R_a/∂x_i` (unused spatial directions 0).
-    pub dr_dx: Vec<[f64; 3]>,
+    /// `J⁻¹` with `J[i][k] = ∂x_i/∂ξ_k`: `inverse_jacobian[k][i] = ∂ξ_k/∂x_i`.
+    pub(crate) inverse_jacobian: [[f64; 3]; 3],
+    /// The NURBS weight function `W = Σ_b w_b N_b` at the point (1 for B-splines).
+    pub(crate) weight_function: f64,
+}
+
+/// How an element's quadrature gives `∂R_a/∂x` at its points.
+#[derive(Clone, Debug, PartialEq)]
+enum BasisGradients {
+    /// Stored per point (point-major, like the values): where the Gauss
+    /// points cannot represent the element's polynomials.
+    Stored(Vec<[f64; 3]>),
+    /// Recovered from the values when asked ([`ElementQuadrature::gradients`]):
+    /// on an element, `W R_a = w_a N_a` is a polynomial of degree `p_d` in
+    /// each direction `d`, so with at least `p_d + 1` Gauss points its
+    /// values there determine it and the Lagrange differentiation on the
+    /// points gives `∂(W R_a)/∂ξ` exactly (to round-off); then
+    /// `∂R_a/∂ξ = (∂(W R_a)/∂ξ − R_a ∂W/∂ξ) / W` and `∂R_a/∂x = J⁻ᵀ ∂R_a/∂ξ`.
+    /// A third of the memory of stored gradients (the bulk quadrature of a
+    /// large 3D level is gigabytes).
+    Interpolated {
+        /// Gauss points per direction (1 in unused directions).
+        counts: [usize; 3],
+        /// Half the element's parametric widths (the rule's scaling).
+        half_widths: [f64; 3],
+    },
 }
 
 /// Quadrature data of one element.
@@ -27,22 +53,229 @@ pub struct ElementQuadrature {
     pub conn: Vec<usize>,
     /// The Gauss points, first direction fastest.
     pub points: Vec<QuadPoint>,
+    /// `R_a` at the points, point-major (`values[q · conn.len() + a]`).
+    values: Vec<f64>,
+    /// `∂R_a/∂x` at the points.
+    gradients: BasisGradients,
+    /// Parametric dimension.
+    dim: usize,
+}
+
+/// The most Gauss points per direction whose differentiation matrices are kept.
+const MAX_DIFFERENTIATED_POINTS: usize = 16;
+
+/// The Lagrange differentiation matrix of the `n`-point Gauss rule on
+/// `[−1, 1]` (row-major: `D[i][m] = ℓ_m'(t_i)`, exact for polynomials of
+/// degree < `n`), from the barycentric weights `λ_m = 1 / Π_{j≠m} (t_m − t_j)`:
+/// `D[i][m] = (λ_m / λ_i) / (t_i − t_m)` off the diagonal and minus the row's
+/// other entries on it. Kept for `n ≤` [`MAX_DIFFERENTIATED_POINTS`].
+fn gauss_differentiation(n: usize) -> &'static [f64] {
+    static CACHE: [std::sync::OnceLock<Vec<f64>>; MAX_DIFFERENTIATED_POINTS + 1] =
+        [const { std::sync::OnceLock::new() }; MAX_DIFFERENTIATED_POINTS + 1];
+    CACHE[n].get_or_init(|| {
+        let t = GaussLegendre::new(n).points;
+        let lambda: Vec<f64> = (0..n)
+            .map(|m| {
+                1.0 / (0..n)
+                    .filter(|&j| j != m)
+                    .map(|j| t[m] - t[j])
+                    .product::<f64>()
+            })
+            .collect();
+        let mut d = vec![0.0; n * n];
+        for i in 0..n {
+            let mut diagonal = 0.0;
+            for m in (0..n).filter(|&m| m != i) {
+                let v = lambda[m] / lambda[i] / (t[i] - t[m]);
+                d[i * n + m] = v;
+                diagonal -= v;
+            }
+            d[i * n + i] = diagonal;
+        }
+        d
+    })
 }
 
 impl ElementQuadrature {
+    /// The quadrature of the element `[lower, upper]` with the Gauss `rules`
+    /// (one per parametric direction), the basis (values and first
+    /// derivatives) at a parameter point from `basis_at`, the patch's
+    /// control points `cp` and NURBS `weights` (indexed by the basis's
+    /// indices), and the polynomial `degrees` per direction: gradients
+    /// recovered from the values where every direction has more points than
+    /// its degree ([`BasisGradients::Interpolated`]), stored otherwise.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn build(
+        dim: usize,
+        (lower, upper): ([f64; 3], [f64; 3]),
+        rules: &[GaussLegendre],
+        degrees: &[usize],
+        cp: &[[f64; 3]],
+        weights: &[f64],
+        mut basis_at: impl FnMut(&[f64], &mut RationalBasis),
+    ) -> Self {
+        let dirs: Vec<usize> = (0..dim).collect();
+        let mut counts = [1; 3];
+        let mut half_widths = [1.0; 3];
+        for d in 0..dim {
+            counts[d] = rules[d].len();
+            half_widths[d] = 0.5 * (upper[d] - lower[d]);
+        }
+        let interpolated =
+            (0..dim).all(|d| counts[d] > degrees[d] && counts[d] <= MAX_DIFFERENTIATED_POINTS);
+        let mut basis = RationalBasis::default();
+        let (mut conn, mut points, mut values, mut stored) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for (xi, wq) in tensor_points(&dirs, lower, upper, rules) {
+            basis_at(&xi[..dim], &mut basis);
+            if conn.is_empty() {
+                conn.clone_from(&basis.indices);
+            }
+            let (mut point, dr_dx) = bulk_point(dim, xi, wq, &basis, cp);
+            // `Σ_a R_a / w_a = Σ_a N_a / W = 1 / W` (the N_a a partition of unity).
+            point.weight_function = 1.0
+                / basis
+                    .indices
+                    .iter()
+                    .zip(&basis.values)
+                    .map(|(&g, r)| r / weights[g])
+                    .sum::<f64>();
+            values.extend_from_slice(&basis.values);
+            if !interpolated {
+                stored.extend(dr_dx);
+            }
+            points.push(point);
+        }
+        let gradients = if interpolated {
+            BasisGradients::Interpolated {
+                counts,
+                half_widths,
+            }
+        } else {
+            BasisGradients::Stored(stored)
+        };
+        Self {
+            conn,
+            points,
+            values,
+            gradients,
+            dim,
+        }
+    }
+
+    /// A quadrature with given values and gradients per point (point-major,
+    /// `conn.len()` per point), in `dim` parametric directions.
+    pub fn with_gradients(
+        dim: usize,
+        conn: Vec<usize>,
+        points: Vec<QuadPoint>,
+        values: Vec<f64>,
+        gradients: Vec<[f64; 3]>,
+    ) -> Self {
+        assert!(
+            values.len() == conn.len() * points.len() && gradients.len() == values.len(),
+            "ElementQuadrature::with_gradients: {} values and {} gradients for {} points of {} functions",
+            values.len(),
+            gradients.len(),
+            points.len(),
+            conn.len()
+        );
+        Self {
+            conn,
+            points,
+            values,
+            gradients: BasisGradients::Stored(gradients),
+            dim,
+        }
+    }
+
+    /// `R_a` at point `q`, indexed like [`Self::conn`].
+    pub fn values(&self, q: usize) -> &[f64] {
+        let n = self.conn.len();
+        &self.values[q * n..(q + 1) * n]
+    }
+
+    /// `∂R_a/∂x_i` (unused spatial directions 0) at every point, point-major
+    /// (`out[q · conn.len() + a]`): the stored ones, or recovered from the
+    /// values into `scratch`: on an element `W R_a` is a polynomial of degree `p_d` in each
+    /// direction, which the Gauss points' Lagrange differentiation recovers exactly where a
+    /// direction has more points than its degree.
+    pub fn gradients<'a>(&'a self, scratch: &'a mut Vec<[f64; 3]>) -> &'a [[f64; 3]] {
+        let (counts, half_widths) = match &self.gradients {
+            BasisGradients::Stored(g) => return g,
+            BasisGradients::Interpolated {
+                counts,
+                half_widths,
+            } => (counts, half_widths),
+        };
+        let (n, dim) = (self.conn.len(), self.dim);
+        let strides = [1, counts[0], counts[0] * counts[1]];
+        let rows: [&[f64]; 3] = std::array::from_fn(|d| {
+            if d < dim {
+                gauss_differentiation(counts[d])
+            } else {
+                &[]
+            }
+        });
+        scratch.clear();
+        scratch.resize(self.points.len() * n, [0.0; 3]);
+        let w = |q: usize| self.points[q].weight_function;
+        for (q, point) in self.points.iter().enumerate() {
+            // ∂(W R_a)/∂ξ_d (reference coordinates) along the point's line in
+            // each direction, all functions at once (contiguous in a), and ∂W/∂ξ_d.
+            let out = &mut scratch[q * n..(q + 1) * n];
+            let mut dw = [0.0; 3];
+            for d in 0..dim {
+                let i = (q / strides[d]) % counts[d];
+                let first = q - i * strides[d];
+                let row = &rows[d][i * counts[d]..(i + 1) * counts[d]];
+                for (m, &c) in row.iter().enumerate() {
+                    let qm = first + m * strides[d];
+                    let cw = c * w(qm);
+                    dw[d] += cw;
+                    for (o, &v) in out.iter_mut().zip(&self.values[qm * n..(qm + 1) * n]) {
+                        o[d] += cw * v;
+                    }
+                }
+            }
+            // ∂R_a/∂ξ_k = (∂(W R_a)/∂ξ_k − R_a ∂W/∂ξ_k) / W, then J⁻ᵀ.
+            let wq = w(q);
+            let mut map = [[0.0; 3]; 3];
+            for k in 0..dim {
+                let scale = 1.0 / (wq * half_widths[k]);
+                for i in 0..dim {
+                    map[k][i] = point.inverse_jacobian[k][i] * scale;
+                }
+            }
+            for (o, &r) in out.iter_mut().zip(&self.values[q * n..(q + 1) * n]) {
+                let dxi: [f64; 3] = std::array::from_fn(|k| o[k] - r * dw[k]);
+                let mut g = [0.0; 3];
+                for i in 0..dim {
+                    for k in 0..dim {
+                        g[i] += map[k][i] * dxi[k];
+                    }
+                }
+                *o = g;
+            }
+        }
+        scratch
+    }
+
+    /// Whether the gradients are stored rather than recovered from the values.
+    pub fn stores_gradients(&self) -> bool {
+        matches!(self.gradients, BasisGradients::Stored(_))
+    }
+
     /// Bytes held (the points' vectors included).
     pub fn storage_bytes(&self) -> usize {
         size_of::<Self>()
             + self.conn.capacity() * size_of::<usize>()
-            + self
-                .points
-                .iter()
-                .map(|q| {
-                    size_of::<QuadPoint>()
-                        + q.r.capacity() * size_of::<f64>()
-                        + q.dr_dx.capacity() * size_of::<[f64; 3]>()
-                })
-                .sum::<usize>()
+            + self.points.capacity() * size_of::<QuadPoint>()
+            + self.values.capacity() * size_of::<f64>()
+            + match &self.gradients {
+                BasisGradients::Stored(g) => g.capacity() * size_of::<[f64; 3]>(),
+                BasisGradients::Interpolated { .. } => 0,
+            }
     }
 }
 
@@ -119,15 +352,16 @@ pub(crate) fn gauss_rules(dim: usize, n_gauss: &[usize]) -> Vec<GaussLegendre> {
 }
 
 /// A bulk quadrature point from the basis at `xi` (with first derivatives) and the control
-/// points `cp` (indexed by `basis.indices`): physical point, `∂R/∂x = J^{-T} ∂R/∂ξ` with
-/// `J[i][k] = ∂x_i/∂ξ_k`, and the weight `wq · |det J|`.
+/// points `cp` (indexed by `basis.indices`): physical point, `J⁻¹` with
+/// `J[i][k] = ∂x_i/∂ξ_k`, the weight `wq · |det J|` (the weight function left at 1), and
+/// `∂R/∂x = J^{-T} ∂R/∂ξ`.
 pub(crate) fn bulk_point(
     dim: usize,
     xi: [f64; 3],
     wq: f64,
     basis: &RationalBasis,
     cp: &[[f64; 3]],
-) -> QuadPoint {
+) -> (QuadPoint, Vec<[f64; 3]>) {
     let mut x = [0.0; 3];
     let mut jac = [[0.0; 3]; 3];
     for (a, &g) in basis.indices.iter().enumerate() {
@@ -154,13 +388,16 @@ pub(crate) fn bulk_point(
             out
         })
         .collect();
-    QuadPoint {
-        xi,
-        x,
-        weight: wq * det.abs(),
-        r: basis.values.clone(),
+    (
+        QuadPoint {
+            xi,
+            x,
+            weight: wq * det.abs(),
+            inverse_jacobian: inv,
+            weight_function: 1.0,
+        },
         dr_dx,
-    }
+    )
 }
 
 /// A face quadrature point on the face where direction `dir` is at its `side` end, from the
@@ -219,19 +456,16 @@ impl NurbsPatch {
     #[track_caller]
     pub fn element_quadrature(&self, el: &Element, n_gauss: &[usize]) -> ElementQuadrature {
         let dim = self.param_dim();
-        let rules = gauss_rules(dim, n_gauss);
-        let dirs: Vec<usize> = (0..dim).collect();
-        let mut basis = RationalBasis::default();
-        let mut conn = Vec::new();
-        let mut points = Vec::new();
-        for (xi, wq) in tensor_points(&dirs, el.lower, el.upper, &rules) {
-            self.basis_in_spans(&el.spans, &xi[..dim], 1, &mut basis);
-            if conn.is_empty() {
-                conn.clone_from(&basis.indices);
-            }
-            points.push(bulk_point(dim, xi, wq, &basis, self.control_points()));
-        }
-        ElementQuadrature { conn, points }
+        let degrees: Vec<usize> = self.knots().iter().map(KnotVector::degree).collect();
+        ElementQuadrature::build(
+            dim,
+            (el.lower, el.upper),
+            &gauss_rules(dim, n_gauss),
+            &degrees,
+            self.control_points(),
+            self.weights(),
+            |xi, basis| self.basis_in_spans(&el.spans, xi, 1, basis),
+        )
     }
 
     /// Quadrature over the face where direction `dir` is at its `side` end, per face element,
@@ -349,5 +583,114 @@ pub(crate) fn invert(m: &[[f64; 3]; 3], dim: usize) -> (f64, [[f64; 3]; 3]) {
             }
             (det, inv)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::shapes;
+
+    /// The Gauss points' differentiation matrices differentiate every
+    /// polynomial of degree below the number of points exactly.
+    #[test]
+    fn gauss_differentiation_is_exact_below_the_point_count() {
+        for n in 1..=MAX_DIFFERENTIATED_POINTS {
+            let t = GaussLegendre::new(n).points;
+            let d = gauss_differentiation(n);
+            for k in 0..n {
+                for i in 0..n {
+                    let dp: f64 = (0..n).map(|m| d[i * n + m] * t[m].powi(k as i32)).sum();
+                    let exact = if k == 0 {
+                        0.0
+                    } else {
+                        k as f64 * t[i].powi(k as i32 - 1)
+                    };
+                    assert!(
+                        (dp - exact).abs() < 1e-9 * (1.0 + exact.abs()),
+                        "n {n}, t^{k} at {i}: {dp} vs {exact}"
+                    );
+                }
+            }
+        }
+    }
+
+    /// The gradients recovered from the values equal those evaluated at the
+    /// points (stored when the degrees are declared too high for the points),
+    /// on a rational patch (quarter annulus) and on a distorted 3D patch of
+    /// degrees 2 and 3; with as many points as the degree they are stored.
+    #[test]
+    fn recovered_gradients_equal_the_evaluated_ones() {
+        let annulus = shapes::quarter_annulus(0.5, 1.5)
+            .elevate_degree(1, 1)
+            .refine_uniform(0, 2)
+            .refine_uniform(1, 1);
+        let mut cube = shapes::cuboid([0.0; 3], [1.0, 1.2, 0.8]);
+        for d in 0..3 {
+            cube = cube.elevate_degree(d, 1).refine_uniform(d, 1);
+        }
+        let distorted = |p: &NurbsPatch| {
+            let points = p
+                .control_points()
+                .iter()
+                .map(|x| {
+                    [
+                        x[0] + 0.05 * (3.0 * x[1] + x[2]).sin(),
+                        x[1] + 0.04 * (2.0 * x[0]).cos() * x[2],
+                        x[2] + 0.06 * x[0] * x[1],
+                    ]
+                })
+                .collect();
+            NurbsPatch::new(p.knots().to_vec(), points, p.weights().to_vec()).unwrap()
+        };
+        let cubic = distorted(
+            &cube
+                .elevate_degree(0, 1)
+                .elevate_degree(1, 1)
+                .elevate_degree(2, 1),
+        );
+        let cube = distorted(&cube);
+        for (patch, n_gauss) in [
+            (&annulus, 3),
+            (&annulus, 5),
+            (&cube, 3),
+            (&cube, 4),
+            (&cubic, 4),
+        ] {
+            let dim = patch.param_dim();
+            let degrees: Vec<usize> = patch.knots().iter().map(KnotVector::degree).collect();
+            for el in patch.elements() {
+                let rules = gauss_rules(dim, &[n_gauss]);
+                let build = |degrees: &[usize]| {
+                    ElementQuadrature::build(
+                        dim,
+                        (el.lower, el.upper),
+                        &rules,
+                        degrees,
+                        patch.control_points(),
+                        patch.weights(),
+                        |xi, basis| patch.basis_in_spans(&el.spans, xi, 1, basis),
+                    )
+                };
+                let (recovered, evaluated) = (build(&degrees), build(&[usize::MAX / 2; 3]));
+                assert!(!recovered.stores_gradients() && evaluated.stores_gradients());
+                assert!(3 * recovered.storage_bytes() < 2 * evaluated.storage_bytes());
+                let (mut s1, mut s2) = (Vec::new(), Vec::new());
+                let (g1, g2) = (recovered.gradients(&mut s1), evaluated.gradients(&mut s2));
+                let scale = g2.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+                for (a, b) in g1.iter().zip(g2) {
+                    for i in 0..3 {
+                        assert!(
+                            (a[i] - b[i]).abs() < 1e-12 * scale,
+                            "{dim}D, {n_gauss} points: {a:?} vs {b:?}"
+                        );
+                    }
+                }
+                assert_eq!(recovered.values, evaluated.values);
+            }
+        }
+        let el = &cube.elements()[0];
+        assert!(cube.element_quadrature(el, &[2]).stores_gradients());
+        assert!(!cube.element_quadrature(el, &[3]).stores_gradients());
     }
 }

@@ -122,9 +122,13 @@ pub fn recovered_errors(model: &Model) -> RecoveredErrors {
             .map(|e| {
                 let q = quad(e);
                 let mut share = vec![0.0; q.conn.len() * (COMPONENTS + 1)];
-                for p in &q.points {
-                    let g = gradients(dim, nf, &model.state, body.node_offset, &q.conn, &p.dr_dx);
-                    for (a, &r) in p.r.iter().enumerate() {
+                let mut scratch = Vec::new();
+                let dr_dx = q.gradients(&mut scratch);
+                let n = q.conn.len();
+                for (i, p) in q.points.iter().enumerate() {
+                    let dr = &dr_dx[i * n..(i + 1) * n];
+                    let g = gradients(dim, nf, &model.state, body.node_offset, &q.conn, dr);
+                    for (a, &r) in q.values(i).iter().enumerate() {
                         let w = p.weight * r;
                         let s = &mut share[a * (COMPONENTS + 1)..][..COMPONENTS + 1];
                         s[COMPONENTS] += w;
@@ -157,10 +161,14 @@ pub fn recovered_errors(model: &Model) -> RecoveredErrors {
             .map(|e| {
                 let q = quad(e);
                 let mut acc = [0.0; 2];
-                for p in &q.points {
-                    let g = gradients(dim, nf, &model.state, body.node_offset, &q.conn, &p.dr_dx);
+                let mut scratch = Vec::new();
+                let dr_dx = q.gradients(&mut scratch);
+                let n = q.conn.len();
+                for (i, p) in q.points.iter().enumerate() {
+                    let (r, dr) = (q.values(i), &dr_dx[i * n..(i + 1) * n]);
+                    let g = gradients(dim, nf, &model.state, body.node_offset, &q.conn, dr);
                     let mut star = [0.0; COMPONENTS];
-                    for (&c, &r) in q.conn.iter().zip(&p.r) {
+                    for (&c, &r) in q.conn.iter().zip(r) {
                         for (s, v) in star
                             .iter_mut()
                             .zip(&recovered[c * COMPONENTS..][..COMPONENTS])
@@ -168,8 +176,8 @@ pub fn recovered_errors(model: &Model) -> RecoveredErrors {
                             *s += r * v;
                         }
                     }
-                    let theta = (0..q.conn.len())
-                        .map(|a| p.r[a] * model.state[(q.conn[a] + body.node_offset) * nf + dim])
+                    let theta = (0..n)
+                        .map(|a| r[a] * model.state[(q.conn[a] + body.node_offset) * nf + dim])
                         .sum::<f64>();
                     let k = m.conductivity(theta).0.max(0.0);
                     let dh: [f64; 9] = std::array::from_fn(|i| star[i] - g[i]);
@@ -204,12 +212,17 @@ mod tests {
             let (mu, lambda) = (body.material.shear_modulus(), body.material.lame_lambda());
             for e in 0..body.patch.n_elements() {
                 let q = body.element_quadrature(e);
-                for p in &q.points {
+                let mut scratch = Vec::new();
+                let dr_dx = q.gradients(&mut scratch);
+                let n = q.conn.len();
+                for (i, p) in q.points.iter().enumerate() {
                     let x = p.x.map(|v| v * ls);
                     let exact = exact_at(&x);
-                    let g = gradients(dim, nf, &model.state, body.node_offset, &q.conn, &p.dr_dx);
-                    let theta = (0..q.conn.len())
-                        .map(|a| p.r[a] * model.state[(q.conn[a] + body.node_offset) * nf + dim])
+                    let dr = &dr_dx[i * n..(i + 1) * n];
+                    let g = gradients(dim, nf, &model.state, body.node_offset, &q.conn, dr);
+                    let r = q.values(i);
+                    let theta = (0..n)
+                        .map(|a| r[a] * model.state[(q.conn[a] + body.node_offset) * nf + dim])
                         .sum::<f64>();
                     let k = body.material.conductivity(theta).0;
                     let mut dh = [0.0; 9];

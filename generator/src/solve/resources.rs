@@ -38,8 +38,11 @@
 //!   is an upper estimate for tensor meshes. At p = 3 it gives 1.5 times
 //!   the 979 MB measured on `[12, 12, 6]`.
 //!
-//! The bulk quadrature (about 1 kB per Gauss point) and the contact points'
-//! states grow with the points per element ([`QuadraturePoints`]): the
+//! The bulk quadrature and the contact points' states grow with the points
+//! per element ([`QuadraturePoints`]; since stop 88 the quadrature keeps the
+//! basis values and each point's map, about 0.37 kB per Gauss point at 3D
+//! p = 2, instead of about 1.1 kB with the gradients, so the model, fitted
+//! before, over-estimates the 3D peaks by up to the difference): the
 //! coefficient `c` is the one fitted at the points above (3D: 3 × 3 × 3 bulk
 //! and 4 × 4 interface points, `tables/egg_box_on_flat.toml`'s; 2D: the
 //! defaults), plus a share per point beyond them, measured in 3D on a
@@ -62,7 +65,7 @@ use crate::{Error, Result};
 
 /// Returns the free pages of the allocator's heaps to the system (glibc's
 /// `malloc_trim`; elsewhere nothing). Memory freed as many small blocks (the
-/// bulk quadrature: two vectors per Gauss point) stays resident otherwise,
+/// bulk quadrature: a few vectors per element) stays resident otherwise,
 /// where a large factorization cannot reuse it: it allocates its factor and
 /// workspace as blocks of their own.
 pub fn return_free_memory() {

@@ -205,7 +205,11 @@ pub fn errors(model: &Model, exact: &dyn Fn(&[f64; 3]) -> ExactFields) -> MmsErr
         let nq: Vec<usize> = body.patch.knots().iter().map(|k| k.degree() + 3).collect();
         for e in 0..body.patch.n_elements() {
             let q = body.patch.element_quadrature(e, &nq);
-            for qp in &q.points {
+            let mut scratch = Vec::new();
+            let dr_dx = q.gradients(&mut scratch);
+            let n = q.conn.len();
+            for (iq, qp) in q.points.iter().enumerate() {
+                let (r, dr) = (q.values(iq), &dr_dx[iq * n..(iq + 1) * n]);
                 let d = model.dim;
                 let x = [qp.x[0] * ls, qp.x[1] * ls, qp.x[2] * ls];
                 let e = exact(&x);
@@ -215,13 +219,13 @@ pub fn errors(model: &Model, exact: &dyn Fn(&[f64; 3]) -> ExactFields) -> MmsErr
                 for (a, &c) in q.conn.iter().enumerate() {
                     let s = &model.state[(c + body.node_offset) * nf..];
                     for i in 0..d {
-                        u[i] += qp.r[a] * s[i] * ls;
+                        u[i] += r[a] * s[i] * ls;
                         for j in 0..d {
-                            gu[i][j] += s[i] * qp.dr_dx[a][j];
+                            gu[i][j] += s[i] * dr[a][j];
                         }
-                        gt[i] += s[d] * qp.dr_dx[a][i] * ts / ls;
+                        gt[i] += s[d] * dr[a][i] * ts / ls;
                     }
-                    t += qp.r[a] * s[d] * ts;
+                    t += r[a] * s[d] * ts;
                 }
                 let w = qp.weight * ls.powi(d as i32);
                 for i in 0..d {

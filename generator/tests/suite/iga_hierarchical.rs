@@ -210,13 +210,20 @@ fn moved_copies_share_the_basis() {
     for i in 0..3 {
         assert!((2.0 * a[i] - b[i]).abs() < 1e-13, "{a:?} vs {b:?}");
     }
+    // p = 2 on 3 points per direction: the values are kept and the gradients
+    // recovered from them; on 2 points the gradients are stored as well.
     let q = thb.element_quadrature(0, &[3]);
     let functions = q.conn.len();
+    let values = 27 * functions * size_of::<f64>();
+    assert!(!q.stores_gradients());
     assert!(
-        q.storage_bytes() >= 27 * functions * 4 * size_of::<f64>(),
+        q.storage_bytes() >= values && q.storage_bytes() < 2 * values,
         "{} bytes for 27 points of {functions} functions",
         q.storage_bytes()
     );
+    let q = thb.element_quadrature(0, &[2]);
+    assert!(q.stores_gradients());
+    assert!(q.storage_bytes() >= 8 * functions * 4 * size_of::<f64>());
 }
 
 /// The prolongation (and its matrix) reproduces the coarse field.
@@ -273,10 +280,17 @@ fn unrefined_patch_is_the_nurbs_patch() {
                 thb.element_quadrature(e, &[p + 1]),
             );
             assert_eq!(a.conn, b.conn);
-            for (qa, qb) in a.points.iter().zip(&b.points) {
+            let (mut sa, mut sb) = (Vec::new(), Vec::new());
+            let (ga, gb) = (a.gradients(&mut sa), b.gradients(&mut sb));
+            for (q, (qa, qb)) in a.points.iter().zip(&b.points).enumerate() {
                 assert!((qa.weight - qb.weight).abs() < 1e-14);
-                for (ra, rb) in qa.r.iter().zip(&qb.r) {
+                for (ra, rb) in a.values(q).iter().zip(b.values(q)) {
                     assert!((ra - rb).abs() < 1e-14);
+                }
+            }
+            for (da, db) in ga.iter().zip(gb) {
+                for i in 0..dim {
+                    assert!((da[i] - db[i]).abs() < 1e-11, "{da:?} vs {db:?}");
                 }
             }
         }

@@ -149,21 +149,20 @@ fn element_quadrature_reproduces_linear_fields() {
     for el in patch.elements() {
         let eq = patch.element_quadrature(&el, &[3, 4]);
         assert_eq!(eq.points.len(), 12);
-        for q in &eq.points {
-            assert!((q.r.iter().sum::<f64>() - 1.0).abs() < 1e-14);
+        let mut scratch = Vec::new();
+        let dr_dx = eq.gradients(&mut scratch);
+        let n = eq.conn.len();
+        for (iq, q) in eq.points.iter().enumerate() {
+            let (rq, dq) = (eq.values(iq), &dr_dx[iq * n..(iq + 1) * n]);
+            assert!((rq.iter().sum::<f64>() - 1.0).abs() < 1e-14);
             let r = (q.x[0] * q.x[0] + q.x[1] * q.x[1]).sqrt();
             assert!((0.5..=1.5).contains(&r));
             for i in 0..2 {
-                let x: f64 = eq.conn.iter().zip(&q.r).map(|(&a, r)| r * cp[a][i]).sum();
+                let x: f64 = eq.conn.iter().zip(rq).map(|(&a, r)| r * cp[a][i]).sum();
                 assert!((x - q.x[i]).abs() < 1e-14);
                 for j in 0..3 {
                     // Σ_a x_a,i ∂R_a/∂x_j = δ_ij.
-                    let g: f64 = eq
-                        .conn
-                        .iter()
-                        .zip(&q.dr_dx)
-                        .map(|(&a, d)| cp[a][i] * d[j])
-                        .sum();
+                    let g: f64 = eq.conn.iter().zip(dq).map(|(&a, d)| cp[a][i] * d[j]).sum();
                     let expected = if i == j { 1.0 } else { 0.0 };
                     assert!((g - expected).abs() < 1e-12, "grad x_{i}/x_{j} = {g}");
                 }
@@ -180,10 +179,12 @@ fn check_divergence_theorem(patch: &NurbsPatch, n_gauss: usize, tol: f64) {
     let mut bulk = vec![[0.0; 3]; n];
     for el in patch.elements() {
         let eq = patch.element_quadrature(&el, &[n_gauss]);
-        for q in &eq.points {
+        let mut scratch = Vec::new();
+        let dr_dx = eq.gradients(&mut scratch);
+        for (iq, q) in eq.points.iter().enumerate() {
             for (k, &a) in eq.conn.iter().enumerate() {
                 for i in 0..dim {
-                    bulk[a][i] += q.weight * q.dr_dx[k][i];
+                    bulk[a][i] += q.weight * dr_dx[iq * eq.conn.len() + k][i];
                 }
             }
         }

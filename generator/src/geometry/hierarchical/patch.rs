@@ -460,21 +460,18 @@ impl ThbPatch {
     #[track_caller]
     pub fn element_quadrature(&self, e: usize, n_gauss: &[usize]) -> ElementQuadrature {
         let dim = self.param_dim();
-        let rules = gauss_rules(dim, n_gauss);
-        let dirs: Vec<usize> = (0..dim).collect();
         let el = &self.basis.elements()[e];
-        let (mut scratch, mut basis) = (TensorBasis::default(), RationalBasis::default());
-        let points = tensor_points(&dirs, el.lower, el.upper, &rules)
-            .into_iter()
-            .map(|(xi, wq)| {
-                self.element_basis_into(e, &xi[..dim], 1, &mut scratch, &mut basis);
-                bulk_point(dim, xi, wq, &basis, &self.points)
-            })
-            .collect();
-        ElementQuadrature {
-            conn: el.functions.clone(),
-            points,
-        }
+        let degrees: Vec<usize> = self.knots().iter().map(KnotVector::degree).collect();
+        let mut scratch = TensorBasis::default();
+        ElementQuadrature::build(
+            dim,
+            (el.lower, el.upper),
+            &gauss_rules(dim, n_gauss),
+            &degrees,
+            &self.points,
+            &self.weights,
+            |xi, basis| self.element_basis_into(e, xi, 1, &mut scratch, basis),
+        )
     }
 
     /// The boundary face where direction `dir` is at its `side` end, as a patch of one
@@ -548,7 +545,7 @@ impl ThbPatch {
         let (mut scratch, mut basis) = (TensorBasis::default(), RationalBasis::default());
         let e = self.locate(&xi[..dim]);
         self.element_basis_into(e, &xi[..dim], 1, &mut scratch, &mut basis);
-        let q = bulk_point(dim, xi, 1.0, &basis, &self.points);
+        let (_, dr_dx) = bulk_point(dim, xi, 1.0, &basis, &self.points);
         let el = &self.basis.elements()[e];
         let mut column = [0.0; 3];
         for (a, &g) in basis.indices.iter().enumerate() {
@@ -560,7 +557,7 @@ impl ThbPatch {
         SeamSide {
             element: e,
             conn: basis.indices,
-            normal_derivative: q.dr_dx.iter().map(|d| d[dir]).collect(),
+            normal_derivative: dr_dx.iter().map(|d| d[dir]).collect(),
             width: length * (el.upper[dir] - el.lower[dir]),
         }
     }

@@ -349,12 +349,15 @@ pub fn thermal_patch(
     let mut bulk_flux_deviation: f64 = 0.0;
     for body in &model.bodies {
         for eq in &body.quadrature {
-            for qp in &eq.points {
+            let mut scratch = Vec::new();
+            let dr_dx = eq.gradients(&mut scratch);
+            let n = eq.conn.len();
+            for iq in 0..eq.points.len() {
                 let mut g = [0.0; 3];
                 for (a, &cn) in eq.conn.iter().enumerate() {
                     let th = model.state[(cn + body.node_offset) * (dim + 1) + dim];
                     for (d, gd) in g.iter_mut().enumerate().take(dim) {
-                        *gd += qp.dr_dx[a][d] * th;
+                        *gd += dr_dx[iq * n + a][d] * th;
                     }
                 }
                 let q = k_scaled * (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
