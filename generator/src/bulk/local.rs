@@ -198,11 +198,8 @@ fn residual_tangent<const D: usize>(
         _ => Vec::new(),
     };
     let mut scratch = Vec::new();
-    let gradients = quad.gradients(&mut scratch);
-    for (q, qp) in quad.points.iter().enumerate() {
+    for (qp, nn, dn) in quad.points_with_basis(&mut scratch) {
         let w = qp.weight;
-        let dn = &gradients[q * ncp..(q + 1) * ncp];
-        let nn = quad.values(q);
         let f = deformation_gradient(D, fields.u, dn);
         let mut theta = 0.0;
         let mut grad = Vector3::zeros();

@@ -131,7 +131,7 @@ impl ElementQuadrature {
             if conn.is_empty() {
                 conn.clone_from(&basis.indices);
             }
-            let (mut point, dr_dx) = bulk_point(dim, xi, wq, &basis, cp);
+            let mut point = bulk_point(dim, xi, wq, &basis, cp);
             // `Σ_a R_a / w_a = Σ_a N_a / W = 1 / W` (the N_a a partition of unity).
             point.weight_function = 1.0
                 / basis
@@ -142,7 +142,7 @@ impl ElementQuadrature {
                     .sum::<f64>();
             values.extend_from_slice(&basis.values);
             if !interpolated {
-                stored.extend(dr_dx);
+                stored.extend(physical_gradients(dim, &point, &basis));
             }
             points.push(point);
         }
@@ -261,6 +261,20 @@ impl ElementQuadrature {
         scratch
     }
 
+    /// Every point with its basis values and gradients ([`Self::values`],
+    /// [`Self::gradients`], which may use `scratch`).
+    pub fn points_with_basis<'a>(
+        &'a self,
+        scratch: &'a mut Vec<[f64; 3]>,
+    ) -> impl Iterator<Item = (&'a QuadPoint, &'a [f64], &'a [[f64; 3]])> {
+        let n = self.conn.len();
+        let gradients = self.gradients(scratch);
+        self.points
+            .iter()
+            .enumerate()
+            .map(move |(q, p)| (p, self.values(q), &gradients[q * n..(q + 1) * n]))
+    }
+
     /// Whether the gradients are stored rather than recovered from the values.
     pub fn stores_gradients(&self) -> bool {
         matches!(self.gradients, BasisGradients::Stored(_))
@@ -353,15 +367,14 @@ pub(crate) fn gauss_rules(dim: usize, n_gauss: &[usize]) -> Vec<GaussLegendre> {
 
 /// A bulk quadrature point from the basis at `xi` (with first derivatives) and the control
 /// points `cp` (indexed by `basis.indices`): physical point, `J⁻¹` with
-/// `J[i][k] = ∂x_i/∂ξ_k`, the weight `wq · |det J|` (the weight function left at 1), and
-/// `∂R/∂x = J^{-T} ∂R/∂ξ`.
+/// `J[i][k] = ∂x_i/∂ξ_k` and the weight `wq · |det J|` (the weight function left at 1).
 pub(crate) fn bulk_point(
     dim: usize,
     xi: [f64; 3],
     wq: f64,
     basis: &RationalBasis,
     cp: &[[f64; 3]],
-) -> (QuadPoint, Vec<[f64; 3]>) {
+) -> QuadPoint {
     let mut x = [0.0; 3];
     let mut jac = [[0.0; 3]; 3];
     for (a, &g) in basis.indices.iter().enumerate() {
@@ -375,29 +388,31 @@ pub(crate) fn bulk_point(
         }
     }
     let (det, inv) = invert(&jac, dim);
-    let dr_dx = basis
-        .d1
-        .iter()
-        .map(|g| {
-            let mut out = [0.0; 3];
-            for i in 0..dim {
-                for k in 0..dim {
-                    out[i] += inv[k][i] * g[k];
-                }
+    QuadPoint {
+        xi,
+        x,
+        weight: wq * det.abs(),
+        inverse_jacobian: inv,
+        weight_function: 1.0,
+    }
+}
+
+/// `∂R/∂x = J^{-T} ∂R/∂ξ` of the basis at `point` (its `J⁻¹`), in `dim` directions.
+pub(crate) fn physical_gradients(
+    dim: usize,
+    point: &QuadPoint,
+    basis: &RationalBasis,
+) -> impl Iterator<Item = [f64; 3]> {
+    let inv = point.inverse_jacobian;
+    basis.d1.iter().map(move |g| {
+        let mut out = [0.0; 3];
+        for i in 0..dim {
+            for k in 0..dim {
+                out[i] += inv[k][i] * g[k];
             }
-            out
-        })
-        .collect();
-    (
-        QuadPoint {
-            xi,
-            x,
-            weight: wq * det.abs(),
-            inverse_jacobian: inv,
-            weight_function: 1.0,
-        },
-        dr_dx,
-    )
+        }
+        out
+    })
 }
 
 /// A face quadrature point on the face where direction `dir` is at its `side` end, from the

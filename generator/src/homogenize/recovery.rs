@@ -123,12 +123,9 @@ pub fn recovered_errors(model: &Model) -> RecoveredErrors {
                 let q = quad(e);
                 let mut share = vec![0.0; q.conn.len() * (COMPONENTS + 1)];
                 let mut scratch = Vec::new();
-                let dr_dx = q.gradients(&mut scratch);
-                let n = q.conn.len();
-                for (i, p) in q.points.iter().enumerate() {
-                    let dr = &dr_dx[i * n..(i + 1) * n];
+                for (p, r, dr) in q.points_with_basis(&mut scratch) {
                     let g = gradients(dim, nf, &model.state, body.node_offset, &q.conn, dr);
-                    for (a, &r) in q.values(i).iter().enumerate() {
+                    for (a, &r) in r.iter().enumerate() {
                         let w = p.weight * r;
                         let s = &mut share[a * (COMPONENTS + 1)..][..COMPONENTS + 1];
                         s[COMPONENTS] += w;
@@ -162,10 +159,7 @@ pub fn recovered_errors(model: &Model) -> RecoveredErrors {
                 let q = quad(e);
                 let mut acc = [0.0; 2];
                 let mut scratch = Vec::new();
-                let dr_dx = q.gradients(&mut scratch);
-                let n = q.conn.len();
-                for (i, p) in q.points.iter().enumerate() {
-                    let (r, dr) = (q.values(i), &dr_dx[i * n..(i + 1) * n]);
+                for (p, r, dr) in q.points_with_basis(&mut scratch) {
                     let g = gradients(dim, nf, &model.state, body.node_offset, &q.conn, dr);
                     let mut star = [0.0; COMPONENTS];
                     for (&c, &r) in q.conn.iter().zip(r) {
@@ -176,7 +170,7 @@ pub fn recovered_errors(model: &Model) -> RecoveredErrors {
                             *s += r * v;
                         }
                     }
-                    let theta = (0..n)
+                    let theta = (0..r.len())
                         .map(|a| r[a] * model.state[(q.conn[a] + body.node_offset) * nf + dim])
                         .sum::<f64>();
                     let k = m.conductivity(theta).0.max(0.0);
@@ -213,15 +207,11 @@ mod tests {
             for e in 0..body.patch.n_elements() {
                 let q = body.element_quadrature(e);
                 let mut scratch = Vec::new();
-                let dr_dx = q.gradients(&mut scratch);
-                let n = q.conn.len();
-                for (i, p) in q.points.iter().enumerate() {
+                for (p, r, dr) in q.points_with_basis(&mut scratch) {
                     let x = p.x.map(|v| v * ls);
                     let exact = exact_at(&x);
-                    let dr = &dr_dx[i * n..(i + 1) * n];
                     let g = gradients(dim, nf, &model.state, body.node_offset, &q.conn, dr);
-                    let r = q.values(i);
-                    let theta = (0..n)
+                    let theta = (0..r.len())
                         .map(|a| r[a] * model.state[(q.conn[a] + body.node_offset) * nf + dim])
                         .sum::<f64>();
                     let k = body.material.conductivity(theta).0;

@@ -206,10 +206,7 @@ pub fn errors(model: &Model, exact: &dyn Fn(&[f64; 3]) -> ExactFields) -> MmsErr
         for e in 0..body.patch.n_elements() {
             let q = body.patch.element_quadrature(e, &nq);
             let mut scratch = Vec::new();
-            let dr_dx = q.gradients(&mut scratch);
-            let n = q.conn.len();
-            for (iq, qp) in q.points.iter().enumerate() {
-                let (r, dr) = (q.values(iq), &dr_dx[iq * n..(iq + 1) * n]);
+            for (qp, r, dr) in q.points_with_basis(&mut scratch) {
                 let d = model.dim;
                 let x = [qp.x[0] * ls, qp.x[1] * ls, qp.x[2] * ls];
                 let e = exact(&x);

@@ -11,7 +11,9 @@
 use super::basis::{ThbBasis, ThbElement, prolongate, prolongation_entries};
 use super::mesh::{Cell, HierarchicalMesh};
 use crate::basis::{RationalBasis, TensorBasis, bspline_tensor_into, rationalize};
-use crate::geometry::patch_quadrature::{bulk_point, face_point, gauss_rules, tensor_points};
+use crate::geometry::patch_quadrature::{
+    bulk_point, face_point, gauss_rules, physical_gradients, tensor_points,
+};
 use crate::geometry::{ElementQuadrature, FaceElementQuadrature, KnotVector, NurbsPatch, Side};
 use crate::quadrature::GaussLegendre;
 use std::sync::Arc;
@@ -545,7 +547,7 @@ impl ThbPatch {
         let (mut scratch, mut basis) = (TensorBasis::default(), RationalBasis::default());
         let e = self.locate(&xi[..dim]);
         self.element_basis_into(e, &xi[..dim], 1, &mut scratch, &mut basis);
-        let (_, dr_dx) = bulk_point(dim, xi, 1.0, &basis, &self.points);
+        let point = bulk_point(dim, xi, 1.0, &basis, &self.points);
         let el = &self.basis.elements()[e];
         let mut column = [0.0; 3];
         for (a, &g) in basis.indices.iter().enumerate() {
@@ -554,10 +556,13 @@ impl ThbPatch {
             }
         }
         let length = column.iter().map(|c| c * c).sum::<f64>().sqrt();
+        let normal_derivative = physical_gradients(dim, &point, &basis)
+            .map(|d| d[dir])
+            .collect();
         SeamSide {
             element: e,
             conn: basis.indices,
-            normal_derivative: dr_dx.iter().map(|d| d[dir]).collect(),
+            normal_derivative,
             width: length * (el.upper[dir] - el.lower[dir]),
         }
     }

@@ -350,14 +350,12 @@ pub fn thermal_patch(
     for body in &model.bodies {
         for eq in &body.quadrature {
             let mut scratch = Vec::new();
-            let dr_dx = eq.gradients(&mut scratch);
-            let n = eq.conn.len();
-            for iq in 0..eq.points.len() {
+            for (_, _, dr) in eq.points_with_basis(&mut scratch) {
                 let mut g = [0.0; 3];
                 for (a, &cn) in eq.conn.iter().enumerate() {
                     let th = model.state[(cn + body.node_offset) * (dim + 1) + dim];
                     for (d, gd) in g.iter_mut().enumerate().take(dim) {
-                        *gd += dr_dx[iq * n + a][d] * th;
+                        *gd += dr[a][d] * th;
                     }
                 }
                 let q = k_scaled * (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
