@@ -3,7 +3,8 @@
 //! [`Assembly::new`] takes, for every element, the global equation of each local
 //! degree of freedom (or `None` for a prescribed one) and builds once
 //! - the CSC pattern of the global matrix (the union of all element blocks plus the
-//!   diagonal, rows sorted within each column),
+//!   diagonal, rows sorted within each column; for a symmetric matrix
+//!   ([`Storage::Lower`]) its lower triangle only),
 //! - the scatter map: for every entry of every element block its position in the
 //!   CSC values,
 //! - groups of consecutive elements ([`ELEMENT_GROUP_ENTRIES`]) and a greedy
@@ -74,10 +75,29 @@ struct RunMap {
 /// Marks a dropped column in [`RunMap::column_list`].
 const NO_RUNS: u32 = u32::MAX;
 
+/// Which entries of the global matrix an [`Assembly`] stores.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Storage {
+    /// Both triangles (any matrix).
+    Full,
+    /// The lower triangle (row ≥ column) of a symmetric matrix: the element
+    /// blocks' entries above the diagonal are not scattered. Half the
+    /// pattern, the values and the products' memory traffic of [`Storage::Full`];
+    /// the linear solvers factorize the lower triangle of a symmetric matrix
+    /// anyway, and their products use both triangles of it
+    /// ([`crate::solve::linear::LinearSolver`]). On the 3D egg box's
+    /// six-level peak (244 kPa, level 5, 163 159 mechanical equations) the
+    /// full pattern held 110 M entries, 0.88 GB of row indices and 0.88 GB
+    /// per tangent (docs/3d.md, "Stop 89").
+    Lower,
+}
+
 /// Element-to-equation map and CSC pattern built once; values filled per iteration.
 #[derive(Debug, Clone)]
 pub struct Assembly {
     n_eq: usize,
+    /// Which entries the pattern holds.
+    storage: Storage,
     /// Shared with the linear solvers that factorize it ([`Assembly::shared_pattern`]).
     pattern: Arc<SymbolicSparseColMat<usize>>,
     /// Element e's local dofs are `dof_eq[dof_ptr[e]..dof_ptr[e + 1]]`.
@@ -106,8 +126,14 @@ impl Assembly {
     /// ([`Assembly::try_new`] returns an error instead, and checks the memory first).
     #[track_caller]
     pub fn new(n_eq: usize, element_eqs: Vec<Vec<Option<usize>>>) -> Self {
+        Self::new_stored(n_eq, element_eqs, Storage::Full)
+    }
+
+    /// [`Assembly::new`] storing `storage`'s entries.
+    #[track_caller]
+    pub fn new_stored(n_eq: usize, element_eqs: Vec<Vec<Option<usize>>>, storage: Storage) -> Self {
         let (dof_ptr, dof_eq) = flatten(n_eq, element_eqs);
-        Self::build(n_eq, dof_ptr, dof_eq).unwrap_or_else(|e| panic!("{e}"))
+        Self::build(n_eq, dof_ptr, dof_eq, storage).unwrap_or_else(|e| panic!("{e}"))
     }
 
     /// [`Assembly::new`], refused with [`Error::OutOfMemory`] where the memory left
@@ -122,6 +148,16 @@ impl Assembly {
     /// Panics if an equation is `>= n_eq`.
     #[track_caller]
     pub fn try_new(n_eq: usize, element_eqs: Vec<Vec<Option<usize>>>) -> Result<Self> {
+        Self::try_new_stored(n_eq, element_eqs, Storage::Full)
+    }
+
+    /// [`Assembly::try_new`] storing `storage`'s entries.
+    #[track_caller]
+    pub fn try_new_stored(
+        n_eq: usize,
+        element_eqs: Vec<Vec<Option<usize>>>,
+        storage: Storage,
+    ) -> Result<Self> {
         const WHAT: &str = "the assembly's pattern, scatter map and values";
         let blocks: usize = element_eqs.iter().map(|e| e.len() * e.len()).sum();
         let (dof_ptr, dof_eq) = flatten(n_eq, element_eqs);
@@ -133,13 +169,13 @@ impl Assembly {
         )
         .is_err()
         {
-            let entries = count_pattern(n_eq, &dof_ptr, &dof_eq);
+            let entries = count_pattern(n_eq, &dof_ptr, &dof_eq, storage);
             crate::solve::resources::ensure_memory(
                 WHAT,
                 Self::bytes_for(blocks, entries, dof_eq.len()),
             )?;
         }
-        Self::build(n_eq, dof_ptr, dof_eq)
+        Self::build(n_eq, dof_ptr, dof_eq, storage)
     }
 
     /// Bytes an assembly of `blocks` element-block entries (`Σ n_e²`), `entries` pattern
@@ -156,21 +192,27 @@ impl Assembly {
     }
 
     /// The assembly of the flattened element equations ([`flatten`]).
-    fn build(n_eq: usize, dof_ptr: Vec<usize>, dof_eq: Vec<usize>) -> Result<Self> {
+    fn build(
+        n_eq: usize,
+        dof_ptr: Vec<usize>,
+        dof_eq: Vec<usize>,
+        storage: Storage,
+    ) -> Result<Self> {
         let (eq_elem_ptr, eq_elems) = equation_to_elements(n_eq, &dof_ptr, &dof_eq);
-        let pattern = build_pattern(n_eq, &dof_ptr, &dof_eq, &eq_elem_ptr, &eq_elems);
+        let pattern = build_pattern(n_eq, &dof_ptr, &dof_eq, &eq_elem_ptr, &eq_elems, storage);
         if pattern.row_idx().len() >= DROPPED_ENTRY as usize {
             return Err(Error::LinearSolver(format!(
                 "assembly pattern too large for the 32-bit scatter map ({} entries)",
                 pattern.row_idx().len()
             )));
         }
-        let (entry_ptr, entry_pos) = build_scatter_map(&pattern, &dof_ptr, &dof_eq);
+        let (entry_ptr, entry_pos) = build_scatter_map(&pattern, &dof_ptr, &dof_eq, storage);
         let group_ptr = element_groups(&dof_ptr);
         let (color_ptr, color_groups) =
             color_groups(&group_ptr, &dof_ptr, &dof_eq, &eq_elem_ptr, &eq_elems);
         Ok(Self {
             n_eq,
+            storage,
             pattern: Arc::new(pattern),
             dof_ptr,
             dof_eq,
@@ -182,11 +224,17 @@ impl Assembly {
         })
     }
 
-    /// Whether this assembly is the one [`Assembly::new`] builds from
-    /// `n_eq` and `element_eqs` (same unknowns, elements and local-to-global
-    /// map: the same pattern and scatter map).
-    pub fn describes(&self, n_eq: usize, element_eqs: &[Vec<Option<usize>>]) -> bool {
+    /// Whether this assembly is the one [`Assembly::new_stored`] builds from
+    /// `n_eq`, `element_eqs` and `storage` (same unknowns, elements,
+    /// local-to-global map and stored entries: the same pattern and scatter map).
+    pub fn describes(
+        &self,
+        n_eq: usize,
+        element_eqs: &[Vec<Option<usize>>],
+        storage: Storage,
+    ) -> bool {
         self.n_eq == n_eq
+            && self.storage == storage
             && self.dof_ptr.len() == element_eqs.len() + 1
             && element_eqs.iter().enumerate().all(|(e, eqs)| {
                 let mine = &self.dof_eq[self.dof_ptr[e]..self.dof_ptr[e + 1]];
@@ -196,6 +244,11 @@ impl Assembly {
                         .zip(eqs)
                         .all(|(&m, q)| q.map_or(m == DROPPED, |i| m == i))
             })
+    }
+
+    /// Which entries the pattern holds.
+    pub fn storage(&self) -> Storage {
+        self.storage
     }
 
     /// Number of unknowns (rows and columns of the global matrix).
@@ -252,7 +305,8 @@ impl Assembly {
         self.color_ptr.len() - 1
     }
 
-    /// The CSC pattern: full (both triangles), rows sorted within each column, diagonal included.
+    /// The CSC pattern: both triangles, or the lower one ([`Self::storage`]), rows sorted within
+    /// each column, diagonal included.
     pub fn symbolic(&self) -> SymbolicSparseColMatRef<'_, usize> {
         (*self.pattern).as_ref()
     }
@@ -263,13 +317,28 @@ impl Assembly {
         Arc::clone(&self.pattern)
     }
 
-    /// The global matrix as a faer view over `values` (CSC, length [`Self::nnz`]).
+    /// The global matrix as a faer view over `values` (CSC, length [`Self::nnz`]): the stored
+    /// entries ([`Self::storage`]; [`Self::full_matrix`] has both triangles).
     #[track_caller]
     pub fn matrix<'a>(
         &'a self,
         values: &'a [f64],
     ) -> faer::sparse::SparseColMatRef<'a, usize, f64> {
         faer::sparse::SparseColMatRef::new(self.symbolic(), values)
+    }
+
+    /// The global matrix with both triangles (a copy; the upper one mirrored from the lower
+    /// where [`Storage::Lower`]).
+    #[track_caller]
+    pub fn full_matrix(&self, values: &[f64]) -> faer::sparse::SparseColMat<usize, f64> {
+        let (pattern, full) = match self.storage {
+            Storage::Full => (
+                self.symbolic().to_owned().expect("a copy of the pattern"),
+                values.to_vec(),
+            ),
+            Storage::Lower => crate::solve::linear::full_from_lower(self.symbolic(), values),
+        };
+        faer::sparse::SparseColMat::new(pattern, full)
     }
 
     /// Calls `local(e, k_e, r_e)` for every element in parallel (rayon), `k_e` a zeroed dense
@@ -445,14 +514,15 @@ fn equation_to_elements(
     (ptr, elems)
 }
 
-/// Column j holds j and every equation of every element containing j, sorted. Columns are
-/// built in parallel chunks and concatenated in order.
+/// Column j holds j and every equation of every element containing j (those ≥ j for
+/// [`Storage::Lower`]), sorted. Columns are built in parallel chunks and concatenated in order.
 fn build_pattern(
     n_eq: usize,
     dof_ptr: &[usize],
     dof_eq: &[usize],
     eq_elem_ptr: &[usize],
     eq_elems: &[usize],
+    storage: Storage,
 ) -> SymbolicSparseColMat<usize> {
     let chunks: Vec<(Vec<usize>, Vec<usize>)> = (0..n_eq.div_ceil(PATTERN_CHUNK))
         .into_par_iter()
@@ -469,6 +539,7 @@ fn build_pattern(
                         marker,
                         (dof_ptr, dof_eq),
                         (eq_elem_ptr, eq_elems),
+                        storage,
                         &mut rows,
                     );
                     rows[start..].sort_unstable();
@@ -494,19 +565,25 @@ fn build_pattern(
 const PATTERN_CHUNK: usize = 2048;
 
 /// Pushes onto `rows` the rows of column `j` of the pattern (unsorted): `j` and every
-/// equation of every element containing `j`; `marker[i] == j` marks those pushed.
+/// equation of every element containing `j` (those > `j` for [`Storage::Lower`]);
+/// `marker[i] == j` marks those pushed.
 fn push_column_rows(
     j: usize,
     marker: &mut [usize],
     (dof_ptr, dof_eq): (&[usize], &[usize]),
     (eq_elem_ptr, eq_elems): (&[usize], &[usize]),
+    storage: Storage,
     rows: &mut Vec<usize>,
 ) {
     marker[j] = j;
     rows.push(j);
+    let first = match storage {
+        Storage::Full => 0,
+        Storage::Lower => j,
+    };
     for &e in &eq_elems[eq_elem_ptr[j]..eq_elem_ptr[j + 1]] {
         for &i in &dof_eq[dof_ptr[e]..dof_ptr[e + 1]] {
-            if i != DROPPED && marker[i] != j {
+            if i != DROPPED && i >= first && marker[i] != j {
                 marker[i] = j;
                 rows.push(i);
             }
@@ -516,7 +593,7 @@ fn push_column_rows(
 
 /// The number of entries of [`build_pattern`]'s pattern, counted column by column without
 /// keeping them.
-fn count_pattern(n_eq: usize, dof_ptr: &[usize], dof_eq: &[usize]) -> usize {
+fn count_pattern(n_eq: usize, dof_ptr: &[usize], dof_eq: &[usize], storage: Storage) -> usize {
     let (eq_elem_ptr, eq_elems) = equation_to_elements(n_eq, dof_ptr, dof_eq);
     (0..n_eq.div_ceil(PATTERN_CHUNK))
         .into_par_iter()
@@ -532,6 +609,7 @@ fn count_pattern(n_eq: usize, dof_ptr: &[usize], dof_eq: &[usize]) -> usize {
                         marker,
                         (dof_ptr, dof_eq),
                         (&eq_elem_ptr, &eq_elems),
+                        storage,
                         rows,
                     );
                     count += rows.len();
@@ -577,6 +655,7 @@ fn build_scatter_map(
     pattern: &SymbolicSparseColMat<usize>,
     dof_ptr: &[usize],
     dof_eq: &[usize],
+    storage: Storage,
 ) -> (Vec<usize>, ScatterMap) {
     let n_elements = dof_ptr.len() - 1;
     let mut entry_ptr = Vec::with_capacity(n_elements + 1);
@@ -592,19 +671,23 @@ fn build_scatter_map(
         .max()
         .unwrap_or(0);
     let map = if longest < RUN_LIMIT as usize {
-        ScatterMap::Runs(fill_run_map(pattern, dof_ptr, dof_eq))
+        ScatterMap::Runs(fill_run_map(pattern, dof_ptr, dof_eq, storage))
     } else {
-        ScatterMap::Positions(fill_positions(pattern, dof_ptr, dof_eq, &entry_ptr))
+        ScatterMap::Positions(fill_positions(
+            pattern, dof_ptr, dof_eq, &entry_ptr, storage,
+        ))
     };
     (entry_ptr, map)
 }
 
 /// Calls `column(b, j, within)` for every kept local column `b` (equation `j`) of the element
 /// with local equations `eqs`, `within[a]` the index within global column `j` of the entry of
-/// local row `a` ([`DROPPED`] for a dropped row). `rows` and `within` are scratch.
+/// local row `a` ([`DROPPED`] for a dropped row, and for [`Storage::Lower`] a row above the
+/// diagonal). `rows` and `within` are scratch.
 fn for_each_element_column(
     pattern: &SymbolicSparseColMat<usize>,
     eqs: &[usize],
+    storage: Storage,
     (rows, within): &mut (Vec<usize>, Vec<usize>),
     mut column: impl FnMut(usize, usize, &[usize]),
 ) {
@@ -631,6 +714,10 @@ fn for_each_element_column(
         previous = Some(global);
         let mut from = 0;
         for &a in rows.iter() {
+            if storage == Storage::Lower && eqs[a] < j {
+                within[a] = DROPPED;
+                continue;
+            }
             let k = from + gallop(&global[from..], eqs[a]);
             assert!(
                 global.get(k) == Some(&eqs[a]),
@@ -648,6 +735,7 @@ fn fill_run_map(
     pattern: &SymbolicSparseColMat<usize>,
     dof_ptr: &[usize],
     dof_eq: &[usize],
+    storage: Storage,
 ) -> RunMap {
     let n_elements = dof_ptr.len() - 1;
     // Per element: each column's list (local index) and the lists' runs.
@@ -660,7 +748,7 @@ fn fill_run_map(
                 let mut lists = vec![NO_RUNS; eqs.len()];
                 let mut ends: Vec<usize> = Vec::new();
                 let mut runs: Vec<Run> = Vec::new();
-                for_each_element_column(pattern, eqs, scratch, |b, _, within| {
+                for_each_element_column(pattern, eqs, storage, scratch, |b, _, within| {
                     // The same offsets as the element's previous kept column: its list.
                     if !ends.is_empty() && previous.as_slice() == within {
                         lists[b] = (ends.len() - 1) as u32;
@@ -723,6 +811,7 @@ fn fill_positions(
     dof_ptr: &[usize],
     dof_eq: &[usize],
     entry_ptr: &[usize],
+    storage: Storage,
 ) -> Vec<u32> {
     let n_elements = dof_ptr.len() - 1;
     let mut entry_pos = vec![DROPPED_ENTRY; entry_ptr[n_elements]];
@@ -740,7 +829,7 @@ fn fill_positions(
         |scratch, (e, block)| {
             let eqs = &dof_eq[dof_ptr[e]..dof_ptr[e + 1]];
             let n = eqs.len();
-            for_each_element_column(pattern, eqs, scratch, |b, j, within| {
+            for_each_element_column(pattern, eqs, storage, scratch, |b, j, within| {
                 for (a, &k) in within.iter().enumerate() {
                     if k != DROPPED {
                         block[b * n + a] = (col_ptr[j] + k) as u32;

@@ -568,13 +568,19 @@ pub fn write_two_level_system(
     })?;
     for (model, name) in [(&mut *from, "coarse"), (&mut *to, "fine")] {
         model.prepare()?;
-        let (col_ptr, row_idx) = {
-            let p = model.pattern();
-            (p.col_ptr().to_vec(), p.row_idx().to_vec())
-        };
-        let mut values = vec![0.0; row_idx.len()];
+        let mut values = vec![0.0; model.pattern().row_idx().len()];
         let mut residual = vec![0.0; model.n_eq()];
         model.assemble(Some(&mut values), &mut residual)?;
+        // Both triangles (a symmetric tangent's assembly stores the lower one).
+        let (col_ptr, row_idx, values) = {
+            let full = model.full_tangent(&values);
+            let p = full.symbolic();
+            (
+                p.col_ptr().to_vec(),
+                p.row_idx().to_vec(),
+                full.val().to_vec(),
+            )
+        };
         put(format!("L{level}_{name}_colptr.u64"), indices(&col_ptr))?;
         put(format!("L{level}_{name}_rowidx.u64"), indices(&row_idx))?;
         put(format!("L{level}_{name}_values.f64"), reals(&values))?;

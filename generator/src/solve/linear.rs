@@ -14,6 +14,11 @@
 //! - [`Factorization::Lu`]: nonsymmetric systems; faer's supernodal LU with partial pivoting,
 //!   columns always ordered by COLAMD.
 //!
+//! A Cholesky or LDLᵀ solver takes the pattern of its symmetric matrix with both triangles or
+//! with the lower one only (an assembly's [`crate::bulk::global::Storage::Lower`]: no entry
+//! above the diagonal, one below it at least); its products (refinement, GMRES) then use the
+//! upper triangle mirrored, and its fallback LU a full copy ([`full_from_lower`]).
+//!
 //! A Cholesky or LDLᵀ factor can be stored in single precision ([`FactorPrecision::Single`]):
 //! half the memory and 0.5–0.8× the time of a numeric factorization and solve (the 3D egg
 //! box's fourth level), each solve then by GMRES in double precision preconditioned by it
@@ -192,6 +197,9 @@ pub struct LinearSolver {
     kind: Factorization,
     /// Sorted within columns, no `col_nnz`; shared with the assembly where it came from one.
     pattern: Arc<SymbolicSparseColMat<usize>>,
+    /// Whether `pattern` is the lower triangle of a symmetric matrix (Cholesky/LDLᵀ only;
+    /// [`stores_lower`]).
+    lower: bool,
     factors: Factors,
     /// The last factorized matrix values, for iterative refinement (empty once released,
     /// [`Self::release_matrix`]).
@@ -331,9 +339,11 @@ impl LinearSolver {
                 }
             }
         };
+        let lower = !matches!(kind, Factorization::Lu) && stores_lower((*pattern).as_ref());
         Ok(Self {
             kind,
             pattern,
+            lower,
             factors,
             values: Vec::new(),
             norm_inf: 0.0,
@@ -401,7 +411,7 @@ impl LinearSolver {
                 values[i]
             )));
         }
-        self.norm_inf = row_sum_norm(self.pattern_ref(), &values);
+        self.norm_inf = row_sum_norm(self.pattern_ref(), &values, self.lower);
         self.values = values;
         self.factorize_kept()
     }
@@ -571,16 +581,23 @@ impl LinearSolver {
                     2 * entries * std::mem::size_of::<f64>(),
                 )?;
             }
-            let lu = LinearSolver::with_pattern(
-                Arc::clone(&self.pattern),
-                Factorization::Lu,
-                Ordering::Default,
-            )
-            .map_err(failed)?;
+            let pattern = match self.lower {
+                true => Arc::new(full_from_lower(self.pattern_ref(), &self.values).0),
+                false => Arc::clone(&self.pattern),
+            };
+            let lu = LinearSolver::with_pattern(pattern, Factorization::Lu, Ordering::Default)
+                .map_err(failed)?;
             self.lu = Some(Box::new(lu));
         }
+        let full = self
+            .lower
+            .then(|| full_from_lower(self.pattern_ref(), &self.values).1);
         let lu = self.lu.as_mut().expect("analysed above");
-        lu.factorize(&self.values).map_err(failed)?;
+        match full {
+            Some(full) => lu.factorize_owned(full),
+            None => lu.factorize(&self.values),
+        }
+        .map_err(failed)?;
         self.fallbacks += 1;
         self.fallback = Some(reason);
         self.factorized = true;
@@ -758,7 +775,7 @@ impl LinearSolver {
             .map_err(|_| out_of_memory(factors.solve_scratch().unaligned_bytes_required()))?;
         let product = |x: &[f64], y: &mut [f64]| {
             y.fill(0.0);
-            multiply_add(pattern, values, 1.0, x, y);
+            multiply_add(pattern, values, self.lower, 1.0, x, y);
         };
         let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
         // Arnoldi on A M⁻¹ from x0 = 0 (modified Gram–Schmidt), Givens rotations on the
@@ -992,7 +1009,7 @@ impl LinearSolver {
 
     /// r ← r − A x with the kept matrix.
     fn subtract_product(&self, x: &[f64], r: &mut [f64]) {
-        multiply_add(self.pattern_ref(), &self.values, -1.0, x, r);
+        multiply_add(self.pattern_ref(), &self.values, self.lower, -1.0, x, r);
     }
 }
 
@@ -1031,23 +1048,35 @@ pub const PARALLEL_PRODUCT_MIN_ENTRIES: usize = 4_000_000;
 /// product is the same for any number of threads.
 pub const PRODUCT_CHUNKS: usize = 8;
 
-/// y ← y + α A x, `A` the CSC matrix of `pattern` and `values`; in parallel
-/// from [`PARALLEL_PRODUCT_MIN_ENTRIES`] entries, with the same result for
-/// any number of threads.
+/// y ← y + α A x, `A` the CSC matrix of `pattern` and `values` (with `lower`, the
+/// symmetric matrix of that lower triangle: every entry below the diagonal
+/// counts twice, once mirrored); in parallel from
+/// [`PARALLEL_PRODUCT_MIN_ENTRIES`] entries, with the same result for any
+/// number of threads.
 fn multiply_add(
     pattern: SymbolicSparseColMatRef<'_, usize>,
     values: &[f64],
+    lower: bool,
     alpha: f64,
     x: &[f64],
     y: &mut [f64],
 ) {
-    multiply_add_from(pattern, values, alpha, x, y, PARALLEL_PRODUCT_MIN_ENTRIES);
+    multiply_add_from(
+        pattern,
+        values,
+        lower,
+        alpha,
+        x,
+        y,
+        PARALLEL_PRODUCT_MIN_ENTRIES,
+    );
 }
 
 /// [`multiply_add`], in parallel from `parallel_entries` entries.
 fn multiply_add_from(
     pattern: SymbolicSparseColMatRef<'_, usize>,
     values: &[f64],
+    lower: bool,
     alpha: f64,
     x: &[f64],
     y: &mut [f64],
@@ -1057,8 +1086,20 @@ fn multiply_add_from(
     let columns_into = |columns: std::ops::Range<usize>, y: &mut [f64]| {
         for j in columns {
             let xj = x[j];
-            if xj != 0.0 {
-                for k in col_ptr[j]..col_ptr[j + 1] {
+            let entries = col_ptr[j]..col_ptr[j + 1];
+            if lower {
+                // Column j and, mirrored, row j: y_i += a_ij x_j, y_j += a_ij x_i (i > j).
+                let mut yj = 0.0;
+                for k in entries {
+                    let (i, a) = (row_idx[k], alpha * values[k]);
+                    y[i] += a * xj;
+                    if i != j {
+                        yj += a * x[i];
+                    }
+                }
+                y[j] += yj;
+            } else if xj != 0.0 {
+                for k in entries {
                     y[row_idx[k]] += alpha * values[k] * xj;
                 }
             }
@@ -1146,13 +1187,83 @@ fn owned_pattern(pattern: SymbolicSparseColMatRef<'_, usize>) -> SymbolicSparseC
     SymbolicSparseColMat::new_checked(pattern.nrows(), n, col_ptr, None, row_idx)
 }
 
-/// ‖A‖∞ = max row sum of |aᵢⱼ|.
-fn row_sum_norm(pattern: SymbolicSparseColMatRef<'_, usize>, values: &[f64]) -> f64 {
+/// ‖A‖∞ = max row sum of |aᵢⱼ| (with `lower`, of the symmetric matrix of that lower triangle).
+fn row_sum_norm(pattern: SymbolicSparseColMatRef<'_, usize>, values: &[f64], lower: bool) -> f64 {
     let mut row_sum = vec![0.0f64; pattern.nrows()];
-    for (&i, v) in pattern.row_idx().iter().zip(values) {
-        row_sum[i] += v.abs();
+    for j in 0..pattern.ncols() {
+        for k in pattern.col_range(j) {
+            let (i, v) = (pattern.row_idx()[k], values[k].abs());
+            row_sum[i] += v;
+            if lower && i != j {
+                row_sum[j] += v;
+            }
+        }
     }
     row_sum.into_iter().fold(0.0, f64::max)
+}
+
+/// Whether `pattern` holds a lower triangle: no entry above the diagonal, and one below it at
+/// least (a diagonal pattern is both triangles).
+pub fn stores_lower(pattern: SymbolicSparseColMatRef<'_, usize>) -> bool {
+    let mut below = false;
+    for j in 0..pattern.ncols() {
+        for &i in &pattern.row_idx()[pattern.col_range(j)] {
+            if i < j {
+                return false;
+            }
+            below |= i > j;
+        }
+    }
+    below
+}
+
+/// The symmetric matrix whose lower triangle is `pattern` with `values`, with both triangles:
+/// its pattern (rows sorted within each column) and values.
+pub fn full_from_lower(
+    pattern: SymbolicSparseColMatRef<'_, usize>,
+    values: &[f64],
+) -> (SymbolicSparseColMat<usize>, Vec<f64>) {
+    let n = pattern.ncols();
+    let row_idx = pattern.row_idx();
+    // Column j of the full matrix: row j of the lower triangle (columns k < j, in order),
+    // then its column j.
+    let mut count = vec![0usize; n + 1];
+    for j in 0..n {
+        for &i in &row_idx[pattern.col_range(j)] {
+            count[j + 1] += 1;
+            if i != j {
+                count[i + 1] += 1;
+            }
+        }
+    }
+    for j in 0..n {
+        count[j + 1] += count[j];
+    }
+    let mut next = count.clone();
+    let mut rows = vec![0usize; count[n]];
+    let mut full = vec![0.0; count[n]];
+    // Mirrored entries first: visiting the columns in order puts them in increasing row.
+    for j in 0..n {
+        for k in pattern.col_range(j) {
+            let i = row_idx[k];
+            if i != j {
+                rows[next[i]] = j;
+                full[next[i]] = values[k];
+                next[i] += 1;
+            }
+        }
+    }
+    for j in 0..n {
+        for k in pattern.col_range(j) {
+            rows[next[j]] = row_idx[k];
+            full[next[j]] = values[k];
+            next[j] += 1;
+        }
+    }
+    (
+        SymbolicSparseColMat::new_checked(n, n, count, None, rows),
+        full,
+    )
 }
 
 fn out_of_memory(bytes: usize) -> Error {
@@ -1351,6 +1462,7 @@ mod tests {
                 multiply_add_from(
                     pattern.as_ref(),
                     &values,
+                    false,
                     -0.7,
                     &x,
                     &mut y,

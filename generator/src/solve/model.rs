@@ -13,7 +13,7 @@ use std::sync::{Arc, Mutex, PoisonError};
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
-use crate::bulk::global::Assembly;
+use crate::bulk::global::{Assembly, Storage};
 use crate::bulk::local::{Coupling, ElementFields, element_residual_tangent};
 use crate::contact::kinematics::Needs;
 use crate::contact::{ContactInterface, ContactSettings, Unknowns};
@@ -726,8 +726,29 @@ impl Model {
 
     /// Turns the symmetric factorizations (Cholesky, LDLᵀ) of symmetric
     /// tangents on (the default) or off (LU for every phase, e.g. to compare).
+    /// The assembly then stores the lower triangle of symmetric tangents, or
+    /// both ([`crate::bulk::global::Storage`]).
     pub fn set_symmetric_solvers(&mut self, on: bool) {
-        self.symmetric_solvers = on;
+        if on != self.symmetric_solvers {
+            self.symmetric_solvers = on;
+            self.mark_assembly_stale();
+        }
+    }
+
+    /// Which entries of the tangent the assembly stores: the lower triangle
+    /// where the phase's tangent is symmetric and factorized symmetrically
+    /// ([`Model::symmetric_tangent`], [`Model::set_symmetric_solvers`]), else
+    /// both triangles. Valid after [`Model::prepare`].
+    pub fn tangent_storage(&self) -> Storage {
+        self.assembly.storage()
+    }
+
+    /// The tangent with both triangles from `values` on the pattern
+    /// ([`NonlinearProblem::pattern`]; mirrored where it stores the lower
+    /// triangle, [`Model::tangent_storage`]): e.g. for LU, or to compare
+    /// with finite differences. Valid after [`Model::prepare`].
+    pub fn full_tangent(&self, values: &[f64]) -> faer::sparse::SparseColMat<usize, f64> {
+        self.assembly.full_matrix(values)
     }
 
     /// Whether symmetric tangents get Cholesky/LDLᵀ ([`Model::set_symmetric_solvers`]).
@@ -993,6 +1014,11 @@ impl Model {
             }
         }
         let n_eq = self.eq_class.len();
+        // A symmetric tangent factorized symmetrically stores its lower triangle.
+        let storage = match self.symmetric_solvers && self.symmetric_tangent() {
+            true => Storage::Lower,
+            false => Storage::Full,
+        };
         // The current assembly or the kept one of another phase, where
         // either is this pattern; one of another phase is kept.
         let previous = std::mem::replace(&mut self.assembly, Assembly::new(0, Vec::new()));
@@ -1006,10 +1032,10 @@ impl Model {
         ];
         let found = candidates
             .iter_mut()
-            .find_map(|c| c.take_if(|(_, a, _)| a.describes(n_eq, &element_eqs)));
+            .find_map(|c| c.take_if(|(_, a, _)| a.describes(n_eq, &element_eqs, storage)));
         self.assembly = match found {
             Some((_, a, _)) => a,
-            None => match Assembly::try_new(n_eq, element_eqs) {
+            None => match Assembly::try_new_stored(n_eq, element_eqs, storage) {
                 Ok(built) => {
                     self.assembly_builds += 1;
                     built

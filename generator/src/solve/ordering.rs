@@ -389,12 +389,16 @@ impl NodeGraph {
         let mut adjncy = Vec::new();
         xadj.push(0i32);
         for a in 0..m {
+            let start = adjncy.len();
             for &b in &both[offset[a]..offset[a + 1]] {
                 if stamp[b] != a {
                     stamp[b] = a;
                     adjncy.push(i32::try_from(b).ok()?);
                 }
             }
+            // In increasing order: the graph's lists, and METIS's order, depend on the
+            // couplings only, not on the triangles the pattern stores.
+            adjncy[start..].sort_unstable();
             xadj.push(i32::try_from(adjncy.len()).ok()?);
         }
         let weights = (0..m)
@@ -671,27 +675,34 @@ impl EliminationTree {
 /// equations with sign +1 it is coupled to (and after its own original position); all other
 /// equations keep their relative order. Eliminating each Lagrange multiplier after the
 /// displacements it constrains makes every leading block of a saddle-point matrix
-/// [K Bᵀ; B 0] (K SPD, B of full row rank) nonsingular with the expected inertia.
+/// [K Bᵀ; B 0] (K SPD, B of full row rank) nonsingular with the expected inertia. The
+/// couplings are read from both triangles of `pattern`, or from the lower one where it holds
+/// only that ([`crate::bulk::global::Storage::Lower`]).
 pub fn multipliers_after_neighbours(
     pattern: SymbolicSparseColMatRef<'_, usize>,
     perm: Vec<usize>,
     signs: &[i8],
 ) -> Vec<usize> {
     let position = inverse_permutation(&perm);
-    let mut key: Vec<(usize, u8, usize)> = Vec::with_capacity(perm.len());
-    for (new, &old) in perm.iter().enumerate() {
-        if signs[old] == -1 {
-            let mut last = new;
-            for &r in &pattern.row_idx()[pattern.col_range(old)] {
-                if signs[r] == 1 {
-                    last = last.max(position[r]);
-                }
+    // The last position of a +1 equation coupled to each −1 equation (its own at least).
+    let mut last = position.clone();
+    for j in 0..pattern.ncols() {
+        for &i in &pattern.row_idx()[pattern.col_range(j)] {
+            if signs[j] == -1 && signs[i] == 1 {
+                last[j] = last[j].max(position[i]);
+            } else if signs[i] == -1 && signs[j] == 1 {
+                last[i] = last[i].max(position[j]);
             }
-            key.push((last, 1, new));
-        } else {
-            key.push((new, 0, new));
         }
     }
+    let mut key: Vec<(usize, u8, usize)> = perm
+        .iter()
+        .enumerate()
+        .map(|(new, &old)| match signs[old] {
+            -1 => (last[old], 1, new),
+            _ => (new, 0, new),
+        })
+        .collect();
     key.sort_unstable();
     key.into_iter().map(|(_, _, new)| perm[new]).collect()
 }

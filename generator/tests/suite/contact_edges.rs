@@ -119,9 +119,14 @@ fn the_contact_fraction_converges_faster_than_first_order() {
 
 /// In 3D the contact area's edges are fitted too (`contact::mortar`'s
 /// `edge3d`): the 3D Hertz contact radius (default mesh, 4.8 slave elements
-/// across `a`) is the same with the factors 0.1 and 10 (observed: equal to
-/// the digits printed), and within 3 % of Hertz's (observed +1.9 %; −6.6 %
-/// from the indicator's crossings).
+/// across `a`) is the same with the factors 0.1 and 10, and within 3 % of
+/// Hertz's (observed −0.14 %; −6.6 % from the indicator's crossings). The
+/// radius takes one of two values 3.5e-5 apart (0.998630 and 0.998665 of
+/// Hertz's) with either factor, as the solver's round-off falls: with the
+/// tangent's lower triangle and a nested dissection of the sorted node
+/// graph (stop 89) the factors 0.1 and 10 gave one each, with both
+/// triangles and the unsorted graph the same (docs/3d.md, "Stop 89"); the
+/// augmentation's own effect is below that.
 #[test]
 fn the_3d_area_does_not_depend_on_the_augmentation() {
     use tcgen::verify::contact::hertz3d::{Hertz3dSetup, hertz_3d};
@@ -133,7 +138,7 @@ fn the_3d_area_does_not_depend_on_the_augmentation() {
     };
     let (soft, stiff) = (radius(0.1), radius(10.0));
     println!("a/a_Hertz: factor 0.1 {soft:.12}, factor 10 {stiff:.12}");
-    assert!((soft - stiff).abs() < 1e-6, "{soft} vs {stiff}");
+    assert!((soft - stiff).abs() < 1e-4, "{soft} vs {stiff}");
     assert!((soft - 1.0).abs() < 0.03, "radius error {}", soft - 1.0);
 }
 

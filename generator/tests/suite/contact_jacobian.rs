@@ -58,7 +58,9 @@ fn tangent_error(model: &mut Model, offset: &[f64], v: &[f64], h: f64) -> f64 {
     let mut values = vec![0.0; nnz];
     let mut r = vec![0.0; n];
     model.assemble(Some(&mut values), &mut r).unwrap();
-    let pattern = model.pattern();
+    // Both triangles (a symmetric phase's assembly stores the lower one).
+    let full = model.full_tangent(&values);
+    let (pattern, values) = (full.symbolic(), full.val());
     let mut kv = vec![0.0; n];
     for (j, vj) in v.iter().enumerate() {
         for k in pattern.col_ptr()[j]..pattern.col_ptr()[j + 1] {

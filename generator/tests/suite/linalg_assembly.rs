@@ -2,7 +2,7 @@
 //! determinism across thread counts, error propagation.
 
 use tcgen::Error;
-use tcgen::bulk::global::Assembly;
+use tcgen::bulk::global::{Assembly, Storage};
 
 /// Dense n×n copy of a CSC matrix given by the assembly pattern and `values`.
 fn dense(assembly: &Assembly, values: &[f64]) -> Vec<Vec<f64>> {
@@ -193,24 +193,25 @@ fn an_assembly_describes_only_its_own_maps() {
         vec![Some(1), Some(2)],
     ];
     let assembly = Assembly::new(3, element_eqs.clone());
-    assert!(assembly.describes(3, &element_eqs));
-    assert!(!assembly.describes(4, &element_eqs));
+    assert!(assembly.describes(3, &element_eqs, Storage::Full));
+    assert!(!assembly.describes(3, &element_eqs, Storage::Lower));
+    assert!(!assembly.describes(4, &element_eqs, Storage::Full));
     let mut other = element_eqs.clone();
     other[1][1] = Some(0);
-    assert!(!assembly.describes(3, &other));
+    assert!(!assembly.describes(3, &other, Storage::Full));
     let mut other = element_eqs.clone();
     other[0][2] = Some(2);
-    assert!(!assembly.describes(3, &other));
+    assert!(!assembly.describes(3, &other, Storage::Full));
     let mut other = element_eqs.clone();
     other[0][0] = None;
-    assert!(!assembly.describes(3, &other));
+    assert!(!assembly.describes(3, &other, Storage::Full));
     let mut other = element_eqs.clone();
     other[1].push(Some(0));
-    assert!(!assembly.describes(3, &other));
-    assert!(!assembly.describes(3, &element_eqs[..1]));
+    assert!(!assembly.describes(3, &other, Storage::Full));
+    assert!(!assembly.describes(3, &element_eqs[..1], Storage::Full));
     let mut other = element_eqs.clone();
     other.push(vec![Some(2)]);
-    assert!(!assembly.describes(3, &other));
+    assert!(!assembly.describes(3, &other, Storage::Full));
 }
 
 /// Random connectivities with ties and prescribed dofs match the dense reference assembly,

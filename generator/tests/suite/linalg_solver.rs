@@ -3,7 +3,7 @@
 
 use proptest::prelude::*;
 use tcgen::Error;
-use tcgen::bulk::global::Assembly;
+use tcgen::bulk::global::{Assembly, Storage};
 use tcgen::solve::linear::{
     FactorPrecision, Factorization, KRYLOV_TOLERANCE, LinearSolver, Ordering,
 };
@@ -24,6 +24,17 @@ struct GridSystem {
 
 impl GridSystem {
     fn new(nx: usize, ny: usize, fields: usize, multipliers: bool) -> Self {
+        Self::new_stored(nx, ny, fields, multipliers, Storage::Full)
+    }
+
+    /// [`GridSystem::new`], its assembly storing `storage`'s entries.
+    fn new_stored(
+        nx: usize,
+        ny: usize,
+        fields: usize,
+        multipliers: bool,
+        storage: Storage,
+    ) -> Self {
         let n_primal = nx * ny * fields;
         let mut element_eqs: Vec<Vec<Option<usize>>> = Vec::new();
         for j in 0..ny - 1 {
@@ -54,7 +65,7 @@ impl GridSystem {
             n_eq += nx;
         }
         Self {
-            assembly: Assembly::new(n_eq, element_eqs),
+            assembly: Assembly::new_stored(n_eq, element_eqs, storage),
             coords,
             n_primal,
             n_bulk,
@@ -308,6 +319,125 @@ fn ldlt_keeps_indefinite_pivots_and_falls_back_to_lu_on_zero_ones() {
     }
     solver.factorize(&[1.0, 1.0, 1.0, -1.0]).unwrap();
     assert_eq!(solver.fallback(), None);
+}
+
+/// A symmetric system stored as its lower triangle ([`Storage::Lower`]): the
+/// assembly holds exactly the full assembly's entries on and below the
+/// diagonal (to the bit) and mirrors them back ([`Assembly::full_matrix`]);
+/// Cholesky and LDLᵀ (with multipliers, nested dissection) on it have the
+/// full pattern's ordering and factor and solve the same, GMRES on its
+/// products takes the same iterations to the same solution, and its fallback
+/// LU (a zero pivot) solves the full matrix.
+#[test]
+fn a_lower_triangle_solves_as_both_triangles() {
+    for (fields, multipliers) in [(1, false), (2, true)] {
+        let full = GridSystem::new(24, 18, fields, multipliers);
+        let lower = GridSystem::new_stored(24, 18, fields, multipliers, Storage::Lower);
+        assert_eq!(lower.assembly.storage(), Storage::Lower);
+        let (fv, rhs) = full.assemble(1.0, 0.02, 0.0);
+        let (lv, lrhs) = lower.assemble(1.0, 0.02, 0.0);
+        assert_eq!(rhs, lrhs);
+        let (fp, lp) = (full.assembly.symbolic(), lower.assembly.symbolic());
+        let mut kept = 0;
+        for j in 0..fp.ncols() {
+            let rows = &lp.row_idx()[lp.col_range(j)];
+            let below: Vec<(usize, f64)> = fp
+                .col_range(j)
+                .filter(|&k| fp.row_idx()[k] >= j)
+                .map(|k| (fp.row_idx()[k], fv[k]))
+                .collect();
+            assert_eq!(rows.len(), below.len(), "column {j}");
+            for (k, &(i, v)) in lp.col_range(j).zip(&below) {
+                assert_eq!((lp.row_idx()[k], lv[k].to_bits()), (i, v.to_bits()));
+            }
+            kept += rows.len();
+        }
+        assert_eq!(kept, lv.len());
+        assert!(
+            2 * kept < fv.len() + fp.ncols() + 1,
+            "about half the entries"
+        );
+        let mirrored = lower.assembly.full_matrix(&lv);
+        assert_eq!(mirrored.symbolic().col_ptr(), fp.col_ptr());
+        assert_eq!(mirrored.symbolic().row_idx(), fp.row_idx());
+        assert_eq!(mirrored.val(), fv.as_slice());
+
+        let kind = match multipliers {
+            true => Factorization::Ldlt {
+                signs: full.signs(),
+            },
+            false => Factorization::Cholesky,
+        };
+        let nd = |s: &GridSystem| nested_dissection(s.assembly.symbolic(), &s.coords);
+        assert_eq!(nd(&full), nd(&lower), "the same nested dissection");
+        let factorized = |s: &GridSystem, values: &[f64]| {
+            let mut solver =
+                LinearSolver::new(s.assembly.symbolic(), kind.clone(), Ordering::Custom(nd(s)))
+                    .unwrap();
+            solver.factorize(values).unwrap();
+            assert_eq!(solver.fallback(), None);
+            solver
+        };
+        let (mut a, mut b) = (factorized(&full, &fv), factorized(&lower, &lv));
+        assert_eq!(a.permutation(), b.permutation());
+        assert_eq!(a.factor_nnz(), b.factor_nnz());
+        let (x, y) = (solve(&mut a, &rhs), solve(&mut b, &rhs));
+        let scale = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for (p, q) in x.iter().zip(&y) {
+            assert!((p - q).abs() <= 1e-12 * scale, "{p} vs {q}");
+        }
+        assert!(relative_residual(&full.assembly, &fv, &y, &rhs) < 1e-12);
+
+        // A nearby symmetric matrix by GMRES on the factors.
+        let nearby = |s: &GridSystem, values: &[f64]| -> Vec<f64> {
+            let p = s.assembly.symbolic();
+            let mut v = values.to_vec();
+            for j in 0..p.ncols() {
+                for k in p.col_range(j) {
+                    v[k] *= 1.0 + 0.05 * ((p.row_idx()[k] + j) as f64).cos();
+                }
+            }
+            v
+        };
+        let (fn_, ln) = (nearby(&full, &fv), nearby(&lower, &lv));
+        let (mut x, mut y) = (rhs.clone(), rhs.clone());
+        let ia = a.solve_preconditioned(&fn_, &mut x, 60).unwrap();
+        let ib = b.solve_preconditioned(&ln, &mut y, 60).unwrap();
+        assert!(ia.is_some_and(|i| i > 1), "{ia:?}");
+        assert_eq!(ia, ib);
+        for (p, q) in x.iter().zip(&y) {
+            assert!((p - q).abs() <= 1e-9 * scale, "{p} vs {q}");
+        }
+        assert!(relative_residual(&full.assembly, &fn_, &y, &rhs) < 1e-10);
+    }
+
+    // [0 1; 1 0] as its lower triangle: the first pivot is zero, and LU solves
+    // the full matrix.
+    let pattern =
+        faer::sparse::SymbolicSparseColMat::new_checked(2, 2, vec![0, 2, 3], None, vec![0, 1, 1]);
+    let kind = Factorization::Ldlt { signs: vec![1, -1] };
+    let mut solver =
+        LinearSolver::new(pattern.as_ref(), kind, Ordering::Custom(vec![0, 1])).unwrap();
+    solver.factorize(&[0.0, 1.0, 0.0]).unwrap();
+    assert!(solver.fallback().is_some_and(|r| r.contains("regularized")));
+    let mut x = vec![2.0, 3.0];
+    solver.solve_in_place(&mut x).unwrap();
+    assert_eq!(x, [3.0, 2.0]);
+}
+
+/// The multipliers' couplings are read from a lower triangle as from both.
+#[test]
+fn multipliers_follow_their_displacements_from_a_lower_triangle() {
+    let full = GridSystem::new(12, 9, 2, true);
+    let lower = GridSystem::new_stored(12, 9, 2, true, Storage::Lower);
+    let signs = full.signs();
+    let n = signs.len();
+    for perm in [(0..n).rev().collect::<Vec<_>>(), (0..n).collect()] {
+        assert_eq!(
+            multipliers_after_neighbours(full.assembly.symbolic(), perm.clone(), &signs),
+            multipliers_after_neighbours(lower.assembly.symbolic(), perm, &signs)
+        );
+    }
 }
 
 /// Supernodal LU of a nonsymmetric 3-field system solves to ≤ 1e−12.

@@ -10,6 +10,7 @@
 use std::collections::HashMap;
 
 use tcgen::bulk::Coupling;
+use tcgen::bulk::global::Storage;
 use tcgen::contact::{ThermalContact, ThermalEnforcement, ThermalMethod};
 use tcgen::sample::Case;
 use tcgen::sample::case::{LateralCondition, Method, TopLateral};
@@ -32,9 +33,16 @@ fn tangent(model: &mut Model) -> (Vec<f64>, Vec<f64>) {
     (values, r)
 }
 
-/// `(overall, largest over blocks)` of `‖K − Kᵀ‖_F / ‖K‖_F` at the current state.
+/// `(overall, largest over blocks)` of `‖K − Kᵀ‖_F / ‖K‖_F` at the current state,
+/// on the tangent assembled with both triangles; where the model stores the lower
+/// one ([`Storage::Lower`]), its entries are checked to be those of the full
+/// tangent to the bit, and every entry of the full one below the diagonal to be
+/// stored.
 fn asymmetry(model: &mut Model) -> (f64, f64) {
+    let symmetric_solvers = model.symmetric_solvers();
+    model.set_symmetric_solvers(false);
     let (values, _) = tangent(model);
+    assert_eq!(model.tangent_storage(), Storage::Full);
     let n = model.n_eq();
     let pattern = model.pattern();
     let mut k = HashMap::new();
@@ -42,6 +50,23 @@ fn asymmetry(model: &mut Model) -> (f64, f64) {
         for p in pattern.col_range(j) {
             *k.entry((pattern.row_idx()[p], j)).or_insert(0.0) += values[p];
         }
+    }
+    model.set_symmetric_solvers(symmetric_solvers);
+    let (stored, _) = tangent(model);
+    if model.tangent_storage() == Storage::Lower {
+        let pattern = model.pattern();
+        let mut kept = 0;
+        for j in 0..n {
+            for p in pattern.col_range(j) {
+                let i = pattern.row_idx()[p];
+                assert!(i >= j, "({i}, {j}) above the diagonal");
+                assert_eq!(stored[p].to_bits(), k[&(i, j)].to_bits(), "({i}, {j})");
+                kept += 1;
+            }
+        }
+        let below = k.keys().filter(|(i, j)| i >= j).count();
+        assert_eq!(kept, below, "every entry on and below the diagonal stored");
+        assert!(kept < k.len(), "fewer entries than both triangles");
     }
     let class = model.eq_fields();
     // Squared norms of K and of K − Kᵀ, overall and per block of classes.
@@ -69,10 +94,16 @@ fn asymmetry(model: &mut Model) -> (f64, f64) {
 fn solves_like_lu(model: &mut Model) -> (Factorization, usize) {
     let (values, r) = tangent(model);
     let kind = model.factorization();
+    // LU on both triangles; the model's kind on what its assembly stores.
+    let full = model.full_tangent(&values);
     let solve = |kind: Factorization| {
         let ordering = model.ordering(&kind);
-        let mut s = LinearSolver::new(model.pattern(), kind, ordering).unwrap();
-        s.factorize(&values).unwrap();
+        let (pattern, values) = match kind {
+            Factorization::Lu => (full.symbolic(), full.val()),
+            _ => (model.pattern(), values.as_slice()),
+        };
+        let mut s = LinearSolver::new(pattern, kind, ordering).unwrap();
+        s.factorize(values).unwrap();
         let mut x = r.clone();
         s.solve_in_place(&mut x).unwrap();
         assert_eq!(s.fallback(), None, "{:?}", s.kind());
