@@ -80,8 +80,12 @@ const NO_RUNS: u32 = u32::MAX;
 pub enum Storage {
     /// Both triangles (any matrix).
     Full,
-    /// The lower triangle (row ≥ column) of a symmetric matrix: the element
-    /// blocks' entries above the diagonal are not scattered. Half the
+    /// The lower triangle of a symmetric matrix, by groups of equations (the
+    /// fields of a node): a column holds the rows from its group's first on,
+    /// so the diagonal blocks of the groups whole, and every other entry once,
+    /// below the diagonal ([`crate::solve::linear::full_from_lower`] mirrors
+    /// the entries `(i, j)` with `j` above column `i`'s first row); the
+    /// element blocks' other entries are not scattered. Half the
     /// pattern, the values and the products' memory traffic of [`Storage::Full`];
     /// the linear solvers factorize the lower triangle of a symmetric matrix
     /// anyway, and their products use both triangles of it
@@ -206,7 +210,7 @@ impl Assembly {
                 pattern.row_idx().len()
             )));
         }
-        let (entry_ptr, entry_pos) = build_scatter_map(&pattern, &dof_ptr, &dof_eq, storage);
+        let (entry_ptr, entry_pos) = build_scatter_map(&pattern, &dof_ptr, &dof_eq);
         let group_ptr = element_groups(&dof_ptr);
         let (color_ptr, color_groups) =
             color_groups(&group_ptr, &dof_ptr, &dof_eq, &eq_elem_ptr, &eq_elems);
@@ -514,8 +518,9 @@ fn equation_to_elements(
     (ptr, elems)
 }
 
-/// Column j holds j and every equation of every element containing j (those ≥ j for
-/// [`Storage::Lower`]), sorted. Columns are built in parallel chunks and concatenated in order.
+/// Column j holds j and every equation of every element containing j, sorted (for
+/// [`Storage::Lower`], those from its group's first on: [`PatternColumns`]). Columns are
+/// built in parallel chunks and concatenated in order.
 fn build_pattern(
     n_eq: usize,
     dof_ptr: &[usize],
@@ -527,23 +532,15 @@ fn build_pattern(
     let chunks: Vec<(Vec<usize>, Vec<usize>)> = (0..n_eq.div_ceil(PATTERN_CHUNK))
         .into_par_iter()
         .map_init(
-            || vec![usize::MAX; n_eq],
-            |marker, c| {
+            || PatternColumns::new(n_eq, (dof_ptr, dof_eq), (eq_elem_ptr, eq_elems), storage),
+            |walker, c| {
                 let columns = c * PATTERN_CHUNK..((c + 1) * PATTERN_CHUNK).min(n_eq);
                 let mut col_len = Vec::with_capacity(columns.len());
                 let mut rows = Vec::new();
                 for j in columns {
-                    let start = rows.len();
-                    push_column_rows(
-                        j,
-                        marker,
-                        (dof_ptr, dof_eq),
-                        (eq_elem_ptr, eq_elems),
-                        storage,
-                        &mut rows,
-                    );
-                    rows[start..].sort_unstable();
-                    col_len.push(rows.len() - start);
+                    let stored = walker.rows(j);
+                    col_len.push(stored.len());
+                    rows.extend_from_slice(stored);
                 }
                 (col_len, rows)
             },
@@ -564,30 +561,106 @@ fn build_pattern(
 /// Columns per parallel task of [`build_pattern`] and [`count_pattern`].
 const PATTERN_CHUNK: usize = 2048;
 
-/// Pushes onto `rows` the rows of column `j` of the pattern (unsorted): `j` and every
-/// equation of every element containing `j` (those > `j` for [`Storage::Lower`]);
-/// `marker[i] == j` marks those pushed.
-fn push_column_rows(
-    j: usize,
-    marker: &mut [usize],
-    (dof_ptr, dof_eq): (&[usize], &[usize]),
-    (eq_elem_ptr, eq_elems): (&[usize], &[usize]),
+/// The stored rows of the pattern's columns, one column after the other. A column holds its
+/// equation and every equation of every element containing it. With [`Storage::Lower`] it
+/// holds those from the first equation of its *group* on: the consecutive equations whose
+/// columns have the same rows (the fields of a node, numbered one after the other), so that
+/// the columns of a group keep the same rows, and one run list of the scatter map
+/// ([`RunMap`]); the diagonal block of a group is stored whole (both of its triangles), every
+/// other entry once, on or below the diagonal (lower rows than the group's first are the
+/// mirror images of entries stored in their own columns).
+struct PatternColumns<'a> {
+    elements: (&'a [usize], &'a [usize]),
+    equation_elements: (&'a [usize], &'a [usize]),
     storage: Storage,
-    rows: &mut Vec<usize>,
-) {
-    marker[j] = j;
-    rows.push(j);
-    let first = match storage {
-        Storage::Full => 0,
-        Storage::Lower => j,
-    };
-    for &e in &eq_elems[eq_elem_ptr[j]..eq_elem_ptr[j + 1]] {
-        for &i in &dof_eq[dof_ptr[e]..dof_ptr[e + 1]] {
-            if i != DROPPED && i >= first && marker[i] != j {
-                marker[i] = j;
-                rows.push(i);
+    /// `marker[i] == stamp` marks the rows pushed for the current column.
+    marker: Vec<usize>,
+    stamp: usize,
+    /// The last column visited, its sorted rows (all of them) and its group's first equation.
+    last: Option<(usize, Vec<usize>, usize)>,
+    rows: Vec<usize>,
+    other: Vec<usize>,
+}
+
+impl<'a> PatternColumns<'a> {
+    fn new(
+        n_eq: usize,
+        elements: (&'a [usize], &'a [usize]),
+        equation_elements: (&'a [usize], &'a [usize]),
+        storage: Storage,
+    ) -> Self {
+        Self {
+            elements,
+            equation_elements,
+            storage,
+            marker: vec![usize::MAX; n_eq],
+            stamp: 0,
+            last: None,
+            rows: Vec::new(),
+            other: Vec::new(),
+        }
+    }
+
+    /// Every row of column `j`, sorted, into `rows`.
+    fn all_rows(&mut self, j: usize, rows: &mut Vec<usize>) {
+        let ((dof_ptr, dof_eq), (eq_elem_ptr, eq_elems)) = (self.elements, self.equation_elements);
+        // A new stamp per column: columns may be visited again (a group's first ones).
+        self.stamp = self.stamp.wrapping_add(1);
+        let stamp = self.stamp;
+        rows.clear();
+        self.marker[j] = stamp;
+        rows.push(j);
+        for &e in &eq_elems[eq_elem_ptr[j]..eq_elem_ptr[j + 1]] {
+            for &i in &dof_eq[dof_ptr[e]..dof_ptr[e + 1]] {
+                if i != DROPPED && self.marker[i] != stamp {
+                    self.marker[i] = stamp;
+                    rows.push(i);
+                }
             }
         }
+        rows.sort_unstable();
+    }
+
+    /// The stored rows of column `j`, sorted.
+    fn rows(&mut self, j: usize) -> &[usize] {
+        let mut rows = std::mem::take(&mut self.rows);
+        self.all_rows(j, &mut rows);
+        let first = match self.storage {
+            Storage::Full => 0,
+            Storage::Lower => {
+                let group = match self.last.take() {
+                    Some((k, previous, group)) if k + 1 == j => {
+                        self.other = previous;
+                        (self.other == rows).then_some(group)
+                    }
+                    other => {
+                        self.last = other;
+                        None
+                    }
+                };
+                group.unwrap_or_else(|| {
+                    // The group's first equation: back while the columns are the same.
+                    let mut first = j;
+                    let mut other = std::mem::take(&mut self.other);
+                    while first > 0 && rows.binary_search(&(first - 1)).is_ok() {
+                        self.all_rows(first - 1, &mut other);
+                        if other != rows {
+                            break;
+                        }
+                        first -= 1;
+                    }
+                    self.other = other;
+                    first
+                })
+            }
+        };
+        let start = rows.partition_point(|&i| i < first);
+        let previous = self.last.replace((j, rows, first));
+        if let Some((_, v, _)) = previous {
+            self.rows = v;
+        }
+        let (_, rows, _) = self.last.as_ref().expect("set above");
+        &rows[start..]
     }
 }
 
@@ -598,23 +671,10 @@ fn count_pattern(n_eq: usize, dof_ptr: &[usize], dof_eq: &[usize], storage: Stor
     (0..n_eq.div_ceil(PATTERN_CHUNK))
         .into_par_iter()
         .map_init(
-            || (vec![usize::MAX; n_eq], Vec::new()),
-            |(marker, rows), c| {
+            || PatternColumns::new(n_eq, (dof_ptr, dof_eq), (&eq_elem_ptr, &eq_elems), storage),
+            |walker, c| {
                 let columns = c * PATTERN_CHUNK..((c + 1) * PATTERN_CHUNK).min(n_eq);
-                let mut count = 0;
-                for j in columns {
-                    rows.clear();
-                    push_column_rows(
-                        j,
-                        marker,
-                        (dof_ptr, dof_eq),
-                        (&eq_elem_ptr, &eq_elems),
-                        storage,
-                        rows,
-                    );
-                    count += rows.len();
-                }
-                count
+                columns.map(|j| walker.rows(j).len()).sum::<usize>()
             },
         )
         .sum()
@@ -655,7 +715,6 @@ fn build_scatter_map(
     pattern: &SymbolicSparseColMat<usize>,
     dof_ptr: &[usize],
     dof_eq: &[usize],
-    storage: Storage,
 ) -> (Vec<usize>, ScatterMap) {
     let n_elements = dof_ptr.len() - 1;
     let mut entry_ptr = Vec::with_capacity(n_elements + 1);
@@ -671,23 +730,20 @@ fn build_scatter_map(
         .max()
         .unwrap_or(0);
     let map = if longest < RUN_LIMIT as usize {
-        ScatterMap::Runs(fill_run_map(pattern, dof_ptr, dof_eq, storage))
+        ScatterMap::Runs(fill_run_map(pattern, dof_ptr, dof_eq))
     } else {
-        ScatterMap::Positions(fill_positions(
-            pattern, dof_ptr, dof_eq, &entry_ptr, storage,
-        ))
+        ScatterMap::Positions(fill_positions(pattern, dof_ptr, dof_eq, &entry_ptr))
     };
     (entry_ptr, map)
 }
 
 /// Calls `column(b, j, within)` for every kept local column `b` (equation `j`) of the element
 /// with local equations `eqs`, `within[a]` the index within global column `j` of the entry of
-/// local row `a` ([`DROPPED`] for a dropped row, and for [`Storage::Lower`] a row above the
-/// diagonal). `rows` and `within` are scratch.
+/// local row `a` ([`DROPPED`] for a dropped row, and for a row above the column's first:
+/// [`Storage::Lower`]'s entries above the diagonal blocks). `rows` and `within` are scratch.
 fn for_each_element_column(
     pattern: &SymbolicSparseColMat<usize>,
     eqs: &[usize],
-    storage: Storage,
     (rows, within): &mut (Vec<usize>, Vec<usize>),
     mut column: impl FnMut(usize, usize, &[usize]),
 ) {
@@ -714,7 +770,7 @@ fn for_each_element_column(
         previous = Some(global);
         let mut from = 0;
         for &a in rows.iter() {
-            if storage == Storage::Lower && eqs[a] < j {
+            if eqs[a] < global[0] {
                 within[a] = DROPPED;
                 continue;
             }
@@ -735,7 +791,6 @@ fn fill_run_map(
     pattern: &SymbolicSparseColMat<usize>,
     dof_ptr: &[usize],
     dof_eq: &[usize],
-    storage: Storage,
 ) -> RunMap {
     let n_elements = dof_ptr.len() - 1;
     // Per element: each column's list (local index) and the lists' runs.
@@ -748,7 +803,7 @@ fn fill_run_map(
                 let mut lists = vec![NO_RUNS; eqs.len()];
                 let mut ends: Vec<usize> = Vec::new();
                 let mut runs: Vec<Run> = Vec::new();
-                for_each_element_column(pattern, eqs, storage, scratch, |b, _, within| {
+                for_each_element_column(pattern, eqs, scratch, |b, _, within| {
                     // The same offsets as the element's previous kept column: its list.
                     if !ends.is_empty() && previous.as_slice() == within {
                         lists[b] = (ends.len() - 1) as u32;
@@ -811,7 +866,6 @@ fn fill_positions(
     dof_ptr: &[usize],
     dof_eq: &[usize],
     entry_ptr: &[usize],
-    storage: Storage,
 ) -> Vec<u32> {
     let n_elements = dof_ptr.len() - 1;
     let mut entry_pos = vec![DROPPED_ENTRY; entry_ptr[n_elements]];
@@ -829,7 +883,7 @@ fn fill_positions(
         |scratch, (e, block)| {
             let eqs = &dof_eq[dof_ptr[e]..dof_ptr[e + 1]];
             let n = eqs.len();
-            for_each_element_column(pattern, eqs, storage, scratch, |b, j, within| {
+            for_each_element_column(pattern, eqs, scratch, |b, j, within| {
                 for (a, &k) in within.iter().enumerate() {
                     if k != DROPPED {
                         block[b * n + a] = (col_ptr[j] + k) as u32;

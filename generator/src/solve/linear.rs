@@ -15,9 +15,9 @@
 //!   columns always ordered by COLAMD.
 //!
 //! A Cholesky or LDLᵀ solver takes the pattern of its symmetric matrix with both triangles or
-//! with the lower one only (an assembly's [`crate::bulk::global::Storage::Lower`]: no entry
-//! above the diagonal, one below it at least); its products (refinement, GMRES) then use the
-//! upper triangle mirrored, and its fallback LU a full copy ([`full_from_lower`]).
+//! with the lower one ([`stores_lower`]; an assembly's [`crate::bulk::global::Storage::Lower`]);
+//! its products (refinement, GMRES) then use the upper triangle mirrored, and its fallback LU
+//! a full copy ([`full_from_lower`]).
 //!
 //! A Cholesky or LDLᵀ factor can be stored in single precision ([`FactorPrecision::Single`]):
 //! half the memory and 0.5–0.8× the time of a numeric factorization and solve (the 3D egg
@@ -1049,8 +1049,8 @@ pub const PARALLEL_PRODUCT_MIN_ENTRIES: usize = 4_000_000;
 pub const PRODUCT_CHUNKS: usize = 8;
 
 /// y ← y + α A x, `A` the CSC matrix of `pattern` and `values` (with `lower`, the
-/// symmetric matrix of that lower triangle: every entry below the diagonal
-/// counts twice, once mirrored); in parallel from
+/// symmetric matrix of that lower triangle, [`stores_lower`]: an entry `(i, j)` whose
+/// mirror `(j, i)` column `i` does not hold counts twice); in parallel from
 /// [`PARALLEL_PRODUCT_MIN_ENTRIES`] entries, with the same result for any
 /// number of threads.
 fn multiply_add(
@@ -1072,6 +1072,18 @@ fn multiply_add(
     );
 }
 
+/// The first row of every column of `pattern` (its own index where empty).
+fn first_rows(pattern: SymbolicSparseColMatRef<'_, usize>) -> Vec<usize> {
+    (0..pattern.ncols())
+        .map(|j| {
+            pattern.row_idx()[pattern.col_range(j)]
+                .first()
+                .copied()
+                .unwrap_or(j)
+        })
+        .collect()
+}
+
 /// [`multiply_add`], in parallel from `parallel_entries` entries.
 fn multiply_add_from(
     pattern: SymbolicSparseColMatRef<'_, usize>,
@@ -1083,17 +1095,20 @@ fn multiply_add_from(
     parallel_entries: usize,
 ) {
     let (col_ptr, row_idx) = (pattern.col_ptr(), pattern.row_idx());
+    let first = lower.then(|| first_rows(pattern));
+    let first = first.as_deref();
     let columns_into = |columns: std::ops::Range<usize>, y: &mut [f64]| {
         for j in columns {
             let xj = x[j];
             let entries = col_ptr[j]..col_ptr[j + 1];
-            if lower {
-                // Column j and, mirrored, row j: y_i += a_ij x_j, y_j += a_ij x_i (i > j).
+            if let Some(first) = first {
+                // Column j and, mirrored, row j: y_i += a_ij x_j, and y_j += a_ij x_i where
+                // column i does not hold row j.
                 let mut yj = 0.0;
                 for k in entries {
                     let (i, a) = (row_idx[k], alpha * values[k]);
                     y[i] += a * xj;
-                    if i != j {
+                    if j < first[i] {
                         yj += a * x[i];
                     }
                 }
@@ -1187,14 +1202,16 @@ fn owned_pattern(pattern: SymbolicSparseColMatRef<'_, usize>) -> SymbolicSparseC
     SymbolicSparseColMat::new_checked(pattern.nrows(), n, col_ptr, None, row_idx)
 }
 
-/// ‖A‖∞ = max row sum of |aᵢⱼ| (with `lower`, of the symmetric matrix of that lower triangle).
+/// ‖A‖∞ = max row sum of |aᵢⱼ| (with `lower`, of the symmetric matrix of that lower
+/// triangle, [`stores_lower`]).
 fn row_sum_norm(pattern: SymbolicSparseColMatRef<'_, usize>, values: &[f64], lower: bool) -> f64 {
+    let first = lower.then(|| first_rows(pattern));
     let mut row_sum = vec![0.0f64; pattern.nrows()];
     for j in 0..pattern.ncols() {
         for k in pattern.col_range(j) {
             let (i, v) = (pattern.row_idx()[k], values[k].abs());
             row_sum[i] += v;
-            if lower && i != j {
+            if first.as_ref().is_some_and(|f| j < f[i]) {
                 row_sum[j] += v;
             }
         }
@@ -1202,36 +1219,38 @@ fn row_sum_norm(pattern: SymbolicSparseColMatRef<'_, usize>, values: &[f64], low
     row_sum.into_iter().fold(0.0, f64::max)
 }
 
-/// Whether `pattern` holds a lower triangle: no entry above the diagonal, and one below it at
-/// least (a diagonal pattern is both triangles).
+/// Whether `pattern` holds the lower triangle of a symmetric matrix
+/// ([`crate::bulk::global::Storage::Lower`]): some entry `(i, j)` has no mirror `(j, i)`
+/// because column `i` starts below row `j`. Each column then holds its rows from its first
+/// on, and an entry `(i, j)` with `j` above column `i`'s first row stands for its mirror too;
+/// the others (a diagonal block stored whole) once. A structurally symmetric pattern (both
+/// triangles) has no such entry.
 pub fn stores_lower(pattern: SymbolicSparseColMatRef<'_, usize>) -> bool {
-    let mut below = false;
-    for j in 0..pattern.ncols() {
-        for &i in &pattern.row_idx()[pattern.col_range(j)] {
-            if i < j {
-                return false;
-            }
-            below |= i > j;
-        }
-    }
-    below
+    let first = first_rows(pattern);
+    (0..pattern.ncols()).any(|j| {
+        pattern.row_idx()[pattern.col_range(j)]
+            .iter()
+            .any(|&i| j < first[i])
+    })
 }
 
-/// The symmetric matrix whose lower triangle is `pattern` with `values`, with both triangles:
-/// its pattern (rows sorted within each column) and values.
+/// The symmetric matrix of which `pattern` with `values` is the lower triangle
+/// ([`stores_lower`]), with both triangles: its pattern (rows sorted within each column) and
+/// values.
 pub fn full_from_lower(
     pattern: SymbolicSparseColMatRef<'_, usize>,
     values: &[f64],
 ) -> (SymbolicSparseColMat<usize>, Vec<f64>) {
     let n = pattern.ncols();
     let row_idx = pattern.row_idx();
-    // Column j of the full matrix: row j of the lower triangle (columns k < j, in order),
-    // then its column j.
+    let first = first_rows(pattern);
+    // Column j of the full matrix: the mirrors in row j (of columns k < first(j), in order),
+    // then its stored column j.
     let mut count = vec![0usize; n + 1];
     for j in 0..n {
         for &i in &row_idx[pattern.col_range(j)] {
             count[j + 1] += 1;
-            if i != j {
+            if j < first[i] {
                 count[i + 1] += 1;
             }
         }
@@ -1246,7 +1265,7 @@ pub fn full_from_lower(
     for j in 0..n {
         for k in pattern.col_range(j) {
             let i = row_idx[k];
-            if i != j {
+            if j < first[i] {
                 rows[next[i]] = j;
                 full[next[i]] = values[k];
                 next[i] += 1;

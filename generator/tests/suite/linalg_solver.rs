@@ -322,8 +322,9 @@ fn ldlt_keeps_indefinite_pivots_and_falls_back_to_lu_on_zero_ones() {
 }
 
 /// A symmetric system stored as its lower triangle ([`Storage::Lower`]): the
-/// assembly holds exactly the full assembly's entries on and below the
-/// diagonal (to the bit) and mirrors them back ([`Assembly::full_matrix`]);
+/// assembly holds exactly the full assembly's entries from each node's first
+/// equation down (to the bit: the nodes' diagonal blocks whole, the others
+/// below the diagonal) and mirrors them back ([`Assembly::full_matrix`]);
 /// Cholesky and LDLᵀ (with multipliers, nested dissection) on it have the
 /// full pattern's ordering and factor and solve the same, GMRES on its
 /// products takes the same iterations to the same solution, and its fallback
@@ -338,25 +339,43 @@ fn a_lower_triangle_solves_as_both_triangles() {
         let (lv, lrhs) = lower.assemble(1.0, 0.02, 0.0);
         assert_eq!(rhs, lrhs);
         let (fp, lp) = (full.assembly.symbolic(), lower.assembly.symbolic());
-        let mut kept = 0;
+        // Each column from its group's first equation on (the consecutive equations with the
+        // same rows: a node's fields, but for those a multiplier couples), each entry the full
+        // assembly's to the bit.
+        let rows = |j: usize| &fp.row_idx()[fp.col_range(j)];
         for j in 0..fp.ncols() {
-            let rows = &lp.row_idx()[lp.col_range(j)];
-            let below: Vec<(usize, f64)> = fp
-                .col_range(j)
-                .filter(|&k| fp.row_idx()[k] >= j)
-                .map(|k| (fp.row_idx()[k], fv[k]))
-                .collect();
-            assert_eq!(rows.len(), below.len(), "column {j}");
-            for (k, &(i, v)) in lp.col_range(j).zip(&below) {
-                assert_eq!((lp.row_idx()[k], lv[k].to_bits()), (i, v.to_bits()));
+            let mut node_first = j;
+            while node_first > 0 && rows(node_first - 1) == rows(j) {
+                node_first -= 1;
             }
-            kept += rows.len();
+            if j < full.n_primal && rows(j).len() > 1 {
+                assert!(j - node_first < fields, "column {j}");
+            }
+            let below: Vec<(usize, u64)> = fp
+                .col_range(j)
+                .filter(|&k| fp.row_idx()[k] >= node_first)
+                .map(|k| (fp.row_idx()[k], fv[k].to_bits()))
+                .collect();
+            let stored: Vec<(usize, u64)> = lp
+                .col_range(j)
+                .map(|k| (lp.row_idx()[k], lv[k].to_bits()))
+                .collect();
+            assert_eq!(stored, below, "column {j}");
         }
-        assert_eq!(kept, lv.len());
         assert!(
-            2 * kept < fv.len() + fp.ncols() + 1,
+            2 * lv.len() < fv.len() + 4 * fp.ncols(),
             "about half the entries"
         );
+        let above = (0..lp.ncols())
+            .flat_map(|j| {
+                lp.row_idx()[lp.col_range(j)]
+                    .iter()
+                    .filter(move |&&i| i < j)
+            })
+            .count();
+        assert_eq!(above > 0, fields > 1, "the nodes' diagonal blocks whole");
+        // The columns of a node share their run lists.
+        assert!(lower.assembly.scatter_map_bytes() < full.assembly.scatter_map_bytes());
         let mirrored = lower.assembly.full_matrix(&lv);
         assert_eq!(mirrored.symbolic().col_ptr(), fp.col_ptr());
         assert_eq!(mirrored.symbolic().row_idx(), fp.row_idx());
@@ -412,7 +431,8 @@ fn a_lower_triangle_solves_as_both_triangles() {
     }
 
     // [0 1; 1 0] as its lower triangle: the first pivot is zero, and LU solves
-    // the full matrix.
+    // the full matrix; as the lower triangle of a 2 × 2 block with a third
+    // equation coupled to it (so that the pattern is a lower one), the same.
     let pattern =
         faer::sparse::SymbolicSparseColMat::new_checked(2, 2, vec![0, 2, 3], None, vec![0, 1, 1]);
     let kind = Factorization::Ldlt { signs: vec![1, -1] };
@@ -423,6 +443,29 @@ fn a_lower_triangle_solves_as_both_triangles() {
     let mut x = vec![2.0, 3.0];
     solver.solve_in_place(&mut x).unwrap();
     assert_eq!(x, [3.0, 2.0]);
+    // [0 1 1; 1 0 0; 1 0 2] with the block of equations 0, 1 whole.
+    let pattern = faer::sparse::SymbolicSparseColMat::new_checked(
+        3,
+        3,
+        vec![0, 3, 5, 6],
+        None,
+        vec![0, 1, 2, 0, 1, 2],
+    );
+    assert!(tcgen::solve::linear::stores_lower(pattern.as_ref()));
+    let values = [0.0, 1.0, 1.0, 1.0, 0.0, 2.0];
+    let kind = Factorization::Ldlt {
+        signs: vec![1, -1, 1],
+    };
+    let mut solver =
+        LinearSolver::new(pattern.as_ref(), kind, Ordering::Custom(vec![0, 1, 2])).unwrap();
+    solver.factorize(&values).unwrap();
+    assert!(solver.fallback().is_some());
+    // x = (1, 2, 3): b = (0·1 + 2 + 3, 1, 1 + 6).
+    let mut x = vec![5.0, 1.0, 7.0];
+    solver.solve_in_place(&mut x).unwrap();
+    for (a, b) in x.iter().zip([1.0, 2.0, 3.0]) {
+        assert!((a - b).abs() < 1e-14, "{x:?}");
+    }
 }
 
 /// The multipliers' couplings are read from a lower triangle as from both.
