@@ -43,7 +43,9 @@
 //! basis values and each point's map, by its layout about 0.37 kB per Gauss
 //! point at 3D p = 2, instead of the measured 1.1 kB with the gradients, so
 //! the model, fitted before, over-estimates the 3D peaks by up to the
-//! difference): the
+//! difference; and since stop 89 symmetric tangents keep their lower
+//! triangle only, `bulk::global::Storage::Lower`: at 244 kPa's level 5 of
+//! the egg box 7.7 instead of 8.9 GiB): the
 //! coefficient `c` is the one fitted at the points above (3D: 3 × 3 × 3 bulk
 //! and 4 × 4 interface points, `tables/egg_box_on_flat.toml`'s; 2D: the
 //! defaults), plus a share per point beyond them, measured in 3D on a
