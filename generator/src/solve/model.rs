@@ -1181,11 +1181,23 @@ impl Model {
     /// Replaces every body's conductivity by its value at `theta` (K),
     /// constant: the thermal phase of the two-phase framework (Sect. 3.1).
     pub fn freeze_conductivity(&mut self, theta: f64) {
+        let symmetric = self.symmetric_tangent();
         let t = self.scales.temp(theta);
         for b in &mut self.bodies {
             let (k, _) = b.material.conductivity(t);
             b.material.thermal_conductivity = k;
             b.material.conductivity_slope = 0.0;
+        }
+        self.storage_follows_symmetry(symmetric);
+    }
+
+    /// Where the tangent's symmetry changed from `symmetric` (a conductivity
+    /// frozen or restored in the thermal phase), the assembly is to store
+    /// the other triangles ([`Model::tangent_storage`]): a lower triangle
+    /// must not reach LU.
+    fn storage_follows_symmetry(&mut self, symmetric: bool) {
+        if self.symmetric_tangent() != symmetric {
+            self.mark_assembly_stale();
         }
     }
 
@@ -1251,18 +1263,22 @@ impl Model {
 
     /// Freezes one body's conductivity at its value at `theta` (K).
     pub fn freeze_body_conductivity(&mut self, body: usize, theta: f64) {
+        let symmetric = self.symmetric_tangent();
         let t = self.scales.temp(theta);
         let m = &mut self.bodies[body].material;
         let (k, _) = m.conductivity(t);
         m.thermal_conductivity = k;
         m.conductivity_slope = 0.0;
+        self.storage_follows_symmetry(symmetric);
     }
 
     /// Restores the bodies' materials as built (undoes the freezes).
     pub fn restore_materials(&mut self) {
+        let symmetric = self.symmetric_tangent();
         for (b, m) in self.bodies.iter_mut().zip(&self.base_materials) {
             b.material = m.clone();
         }
+        self.storage_follows_symmetry(symmetric);
     }
 
     /// Sets every prescribed component of the state to its value exactly.

@@ -234,7 +234,13 @@ fn phases_with_multipliers_have_symmetric_tangents() {
             true,
             "LDLT",
         );
+        model.prepare().unwrap();
+        assert_eq!(model.tangent_storage(), Storage::Lower);
+        // Restored k(θ): both triangles at once, for LU.
         model.restore_materials();
+        model.prepare().unwrap();
+        assert_eq!(model.tangent_storage(), Storage::Full);
+        assert!(matches!(model.factorization(), Factorization::Lu));
         check(
             &format!("p=2 PR thermal (AL, k(θ)) {pressure:e} Pa"),
             &mut model,
