@@ -733,8 +733,10 @@ impl LinearSolver {
     /// preconditioned by the factors of the previous one (a self-consistent iteration's
     /// mechanical phase after the active set changed), to ‖b − A x‖₂ ≤ `tolerance` ‖b‖₂
     /// (at least [`KRYLOV_TOLERANCE`]; a Newton increment needs less,
-    /// `solve::newton::forcing_term`). Panics unless `pattern` has [`Self::n_eq`] rows and
-    /// columns and `values` one entry per pattern entry.
+    /// `solve::newton::forcing_term`). `None` also where `pattern` stores other triangles than
+    /// the solver's ([`stores_lower`]: a phase whose tangent's symmetry changed), whose
+    /// product it would misread. Panics unless `pattern` has [`Self::n_eq`] rows and columns
+    /// and `values` one entry per pattern entry.
     pub fn solve_preconditioned_on(
         &self,
         pattern: SymbolicSparseColMatRef<'_, usize>,
@@ -760,6 +762,11 @@ impl LinearSolver {
             "solve_preconditioned: rhs.len() must equal n_eq"
         );
         if !self.factorized {
+            return Ok(None);
+        }
+        let own = std::ptr::eq(pattern.row_idx(), self.pattern.row_idx())
+            && std::ptr::eq(pattern.col_ptr(), self.pattern.col_ptr());
+        if !own && stores_lower(pattern) != self.lower {
             return Ok(None);
         }
         let m = max_iterations.clamp(1, KRYLOV_MAX_ITERATIONS);
