@@ -576,10 +576,11 @@ struct PatternColumns<'a> {
     /// `marker[i] == stamp` marks the rows pushed for the current column.
     marker: Vec<usize>,
     stamp: usize,
-    /// The last column visited, its sorted rows (all of them) and its group's first equation.
-    last: Option<(usize, Vec<usize>, usize)>,
+    /// The last column visited and its group's first equation.
+    last: Option<(usize, usize)>,
+    /// The last column's rows (all of them, sorted), and a spare buffer.
     rows: Vec<usize>,
-    other: Vec<usize>,
+    spare: Vec<usize>,
 }
 
 impl<'a> PatternColumns<'a> {
@@ -597,14 +598,15 @@ impl<'a> PatternColumns<'a> {
             stamp: 0,
             last: None,
             rows: Vec::new(),
-            other: Vec::new(),
+            spare: Vec::new(),
         }
     }
 
     /// Every row of column `j`, sorted, into `rows`.
     fn all_rows(&mut self, j: usize, rows: &mut Vec<usize>) {
         let ((dof_ptr, dof_eq), (eq_elem_ptr, eq_elems)) = (self.elements, self.equation_elements);
-        // A new stamp per column: columns may be visited again (a group's first ones).
+        // A new stamp per column: a column may be visited again (a group's first ones, from
+        // the first column of a chunk).
         self.stamp = self.stamp.wrapping_add(1);
         let stamp = self.stamp;
         rows.clear();
@@ -623,44 +625,36 @@ impl<'a> PatternColumns<'a> {
 
     /// The stored rows of column `j`, sorted.
     fn rows(&mut self, j: usize) -> &[usize] {
-        let mut rows = std::mem::take(&mut self.rows);
+        let mut rows = std::mem::take(&mut self.spare);
         self.all_rows(j, &mut rows);
-        let first = match self.storage {
-            Storage::Full => 0,
-            Storage::Lower => {
-                let group = match self.last.take() {
-                    Some((k, previous, group)) if k + 1 == j => {
-                        self.other = previous;
-                        (self.other == rows).then_some(group)
+        let first = match (self.storage, self.last) {
+            (Storage::Full, _) => 0,
+            // After the previous column: its group's, or a new group.
+            (Storage::Lower, Some((k, group))) if k + 1 == j => {
+                if self.rows == rows {
+                    group
+                } else {
+                    j
+                }
+            }
+            // The first column of a chunk: back while the columns are the same.
+            (Storage::Lower, _) => {
+                let mut first = j;
+                let mut other = Vec::new();
+                while first > 0 && rows.binary_search(&(first - 1)).is_ok() {
+                    self.all_rows(first - 1, &mut other);
+                    if other != rows {
+                        break;
                     }
-                    other => {
-                        self.last = other;
-                        None
-                    }
-                };
-                group.unwrap_or_else(|| {
-                    // The group's first equation: back while the columns are the same.
-                    let mut first = j;
-                    let mut other = std::mem::take(&mut self.other);
-                    while first > 0 && rows.binary_search(&(first - 1)).is_ok() {
-                        self.all_rows(first - 1, &mut other);
-                        if other != rows {
-                            break;
-                        }
-                        first -= 1;
-                    }
-                    self.other = other;
-                    first
-                })
+                    first -= 1;
+                }
+                first
             }
         };
-        let start = rows.partition_point(|&i| i < first);
-        let previous = self.last.replace((j, rows, first));
-        if let Some((_, v, _)) = previous {
-            self.rows = v;
-        }
-        let (_, rows, _) = self.last.as_ref().expect("set above");
-        &rows[start..]
+        self.last = Some((j, first));
+        self.spare = std::mem::replace(&mut self.rows, rows);
+        let start = self.rows.partition_point(|&i| i < first);
+        &self.rows[start..]
     }
 }
 

@@ -197,9 +197,10 @@ pub struct LinearSolver {
     kind: Factorization,
     /// Sorted within columns, no `col_nnz`; shared with the assembly where it came from one.
     pattern: Arc<SymbolicSparseColMat<usize>>,
-    /// Whether `pattern` is the lower triangle of a symmetric matrix (Cholesky/LDLᵀ only;
-    /// [`stores_lower`]).
-    lower: bool,
+    /// Where `pattern` is the lower triangle of a symmetric matrix (Cholesky/LDLᵀ only;
+    /// [`stores_lower`]), the first row of each of its columns: which entries stand for
+    /// their mirrors too.
+    lower: Option<Vec<usize>>,
     factors: Factors,
     /// The last factorized matrix values, for iterative refinement (empty once released,
     /// [`Self::release_matrix`]).
@@ -339,7 +340,10 @@ impl LinearSolver {
                 }
             }
         };
-        let lower = !matches!(kind, Factorization::Lu) && stores_lower((*pattern).as_ref());
+        let lower = match kind {
+            Factorization::Lu => None,
+            _ => lower_first_rows((*pattern).as_ref()),
+        };
         Ok(Self {
             kind,
             pattern,
@@ -411,7 +415,7 @@ impl LinearSolver {
                 values[i]
             )));
         }
-        self.norm_inf = row_sum_norm(self.pattern_ref(), &values, self.lower);
+        self.norm_inf = row_sum_norm(self.pattern_ref(), &values, self.lower.as_deref());
         self.values = values;
         self.factorize_kept()
     }
@@ -572,29 +576,33 @@ impl LinearSolver {
     fn fall_back(&mut self, reason: String) -> Result<()> {
         self.factorized = false;
         let failed = |e| Error::LinearSolver(format!("{reason}; the fallback LU: {}", message(e)));
-        if self.lu.is_none() {
+        if self.lu.is_none()
+            && let Some(entries) = self.factor_nnz()
+        {
             // LU holds at least both triangles of the symmetric factor (faer
             // allocates it itself, so its size is checked here).
-            if let Some(entries) = self.factor_nnz() {
-                super::resources::ensure_memory(
-                    "the fallback LU factorization (at least)",
-                    2 * entries * std::mem::size_of::<f64>(),
-                )?;
+            super::resources::ensure_memory(
+                "the fallback LU factorization (at least)",
+                2 * entries * std::mem::size_of::<f64>(),
+            )?;
+        }
+        // Both triangles of a lower one, once: the LU's pattern (on first use) and values.
+        let (pattern, full) = match self.lower.is_some() {
+            true => {
+                let (pattern, values) = full_from_lower(self.pattern_ref(), &self.values);
+                (Some(pattern), Some(values))
             }
-            let pattern = match self.lower {
-                true => Arc::new(full_from_lower(self.pattern_ref(), &self.values).0),
-                false => Arc::clone(&self.pattern),
-            };
+            false => (None, None),
+        };
+        if self.lu.is_none() {
+            let pattern = pattern.map_or_else(|| Arc::clone(&self.pattern), Arc::new);
             let lu = LinearSolver::with_pattern(pattern, Factorization::Lu, Ordering::Default)
                 .map_err(failed)?;
             self.lu = Some(Box::new(lu));
         }
-        let full = self
-            .lower
-            .then(|| full_from_lower(self.pattern_ref(), &self.values).1);
         let lu = self.lu.as_mut().expect("analysed above");
         match full {
-            Some(full) => lu.factorize_owned(full),
+            Some(values) => lu.factorize_owned(values),
             None => lu.factorize(&self.values),
         }
         .map_err(failed)?;
@@ -766,9 +774,12 @@ impl LinearSolver {
         }
         let own = std::ptr::eq(pattern.row_idx(), self.pattern.row_idx())
             && std::ptr::eq(pattern.col_ptr(), self.pattern.col_ptr());
-        if !own && stores_lower(pattern) != self.lower {
-            return Ok(None);
-        }
+        let other = (!own).then(|| lower_first_rows(pattern));
+        let first = match &other {
+            None => self.lower.as_deref(),
+            Some(other) if other.is_some() == self.lower.is_some() => other.as_deref(),
+            Some(_) => return Ok(None),
+        };
         let m = max_iterations.clamp(1, KRYLOV_MAX_ITERATIONS);
         let norm_b = rhs.iter().map(|v| v * v).sum::<f64>().sqrt();
         if norm_b == 0.0 {
@@ -782,7 +793,7 @@ impl LinearSolver {
             .map_err(|_| out_of_memory(factors.solve_scratch().unaligned_bytes_required()))?;
         let product = |x: &[f64], y: &mut [f64]| {
             y.fill(0.0);
-            multiply_add(pattern, values, self.lower, 1.0, x, y);
+            multiply_add(pattern, values, first, 1.0, x, y);
         };
         let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
         // Arnoldi on A M⁻¹ from x0 = 0 (modified Gram–Schmidt), Givens rotations on the
@@ -1016,7 +1027,14 @@ impl LinearSolver {
 
     /// r ← r − A x with the kept matrix.
     fn subtract_product(&self, x: &[f64], r: &mut [f64]) {
-        multiply_add(self.pattern_ref(), &self.values, self.lower, -1.0, x, r);
+        multiply_add(
+            self.pattern_ref(),
+            &self.values,
+            self.lower.as_deref(),
+            -1.0,
+            x,
+            r,
+        );
     }
 }
 
@@ -1055,15 +1073,15 @@ pub const PARALLEL_PRODUCT_MIN_ENTRIES: usize = 4_000_000;
 /// product is the same for any number of threads.
 pub const PRODUCT_CHUNKS: usize = 8;
 
-/// y ← y + α A x, `A` the CSC matrix of `pattern` and `values` (with `lower`, the
-/// symmetric matrix of that lower triangle, [`stores_lower`]: an entry `(i, j)` whose
-/// mirror `(j, i)` column `i` does not hold counts twice); in parallel from
+/// y ← y + α A x, `A` the CSC matrix of `pattern` and `values` (with `first`, the first
+/// rows of its columns, the symmetric matrix of that lower triangle, [`stores_lower`]: an
+/// entry `(i, j)` whose mirror `(j, i)` column `i` does not hold counts twice); in parallel from
 /// [`PARALLEL_PRODUCT_MIN_ENTRIES`] entries, with the same result for any
 /// number of threads.
 fn multiply_add(
     pattern: SymbolicSparseColMatRef<'_, usize>,
     values: &[f64],
-    lower: bool,
+    first: Option<&[usize]>,
     alpha: f64,
     x: &[f64],
     y: &mut [f64],
@@ -1071,7 +1089,7 @@ fn multiply_add(
     multiply_add_from(
         pattern,
         values,
-        lower,
+        first,
         alpha,
         x,
         y,
@@ -1095,15 +1113,13 @@ fn first_rows(pattern: SymbolicSparseColMatRef<'_, usize>) -> Vec<usize> {
 fn multiply_add_from(
     pattern: SymbolicSparseColMatRef<'_, usize>,
     values: &[f64],
-    lower: bool,
+    first: Option<&[usize]>,
     alpha: f64,
     x: &[f64],
     y: &mut [f64],
     parallel_entries: usize,
 ) {
     let (col_ptr, row_idx) = (pattern.col_ptr(), pattern.row_idx());
-    let first = lower.then(|| first_rows(pattern));
-    let first = first.as_deref();
     let columns_into = |columns: std::ops::Range<usize>, y: &mut [f64]| {
         for j in columns {
             let xj = x[j];
@@ -1209,16 +1225,19 @@ fn owned_pattern(pattern: SymbolicSparseColMatRef<'_, usize>) -> SymbolicSparseC
     SymbolicSparseColMat::new_checked(pattern.nrows(), n, col_ptr, None, row_idx)
 }
 
-/// ‖A‖∞ = max row sum of |aᵢⱼ| (with `lower`, of the symmetric matrix of that lower
-/// triangle, [`stores_lower`]).
-fn row_sum_norm(pattern: SymbolicSparseColMatRef<'_, usize>, values: &[f64], lower: bool) -> f64 {
-    let first = lower.then(|| first_rows(pattern));
+/// ‖A‖∞ = max row sum of |aᵢⱼ| (with `first`, the first rows of its columns, of the
+/// symmetric matrix of that lower triangle, [`stores_lower`]).
+fn row_sum_norm(
+    pattern: SymbolicSparseColMatRef<'_, usize>,
+    values: &[f64],
+    first: Option<&[usize]>,
+) -> f64 {
     let mut row_sum = vec![0.0f64; pattern.nrows()];
     for j in 0..pattern.ncols() {
         for k in pattern.col_range(j) {
             let (i, v) = (pattern.row_idx()[k], values[k].abs());
             row_sum[i] += v;
-            if first.as_ref().is_some_and(|f| j < f[i]) {
+            if first.is_some_and(|f| j < f[i]) {
                 row_sum[j] += v;
             }
         }
@@ -1233,12 +1252,20 @@ fn row_sum_norm(pattern: SymbolicSparseColMatRef<'_, usize>, values: &[f64], low
 /// the others (a diagonal block stored whole) once. A structurally symmetric pattern (both
 /// triangles) has no such entry.
 pub fn stores_lower(pattern: SymbolicSparseColMatRef<'_, usize>) -> bool {
+    lower_first_rows(pattern).is_some()
+}
+
+/// The first row of every column of `pattern` where it holds a lower triangle
+/// ([`stores_lower`]), else `None`.
+fn lower_first_rows(pattern: SymbolicSparseColMatRef<'_, usize>) -> Option<Vec<usize>> {
     let first = first_rows(pattern);
-    (0..pattern.ncols()).any(|j| {
-        pattern.row_idx()[pattern.col_range(j)]
-            .iter()
-            .any(|&i| j < first[i])
-    })
+    (0..pattern.ncols())
+        .any(|j| {
+            pattern.row_idx()[pattern.col_range(j)]
+                .iter()
+                .any(|&i| j < first[i])
+        })
+        .then_some(first)
 }
 
 /// The symmetric matrix of which `pattern` with `values` is the lower triangle
@@ -1488,7 +1515,7 @@ mod tests {
                 multiply_add_from(
                     pattern.as_ref(),
                     &values,
-                    false,
+                    None,
                     -0.7,
                     &x,
                     &mut y,

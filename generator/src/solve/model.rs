@@ -729,10 +729,7 @@ impl Model {
     /// The assembly then stores the lower triangle of symmetric tangents, or
     /// both ([`crate::bulk::global::Storage`]).
     pub fn set_symmetric_solvers(&mut self, on: bool) {
-        if on != self.symmetric_solvers {
-            self.symmetric_solvers = on;
-            self.mark_assembly_stale();
-        }
+        self.symmetric_solvers = on;
     }
 
     /// Which entries of the tangent the assembly stores: the lower triangle
@@ -741,6 +738,17 @@ impl Model {
     /// both triangles. Valid after [`Model::prepare`].
     pub fn tangent_storage(&self) -> Storage {
         self.assembly.storage()
+    }
+
+    /// The storage [`Model::tangent_storage`] is to have now: an assembly of
+    /// the other is built again at the next preparation (a toggled solver
+    /// choice, a frozen or restored conductivity), so that a lower triangle
+    /// never reaches LU.
+    fn needed_storage(&self) -> Storage {
+        match self.symmetric_solvers && self.symmetric_tangent() {
+            true => Storage::Lower,
+            false => Storage::Full,
+        }
     }
 
     /// The tangent with both triangles from `values` on the pattern
@@ -988,7 +996,8 @@ impl Model {
     /// where the memory left cannot hold it ([`Assembly::try_new`]; the assembly stays out of
     /// date).
     fn ensure_assembly(&mut self) -> Result<()> {
-        if !self.assembly_stale {
+        let storage = self.needed_storage();
+        if !self.assembly_stale && self.assembly.storage() == storage {
             return Ok(());
         }
         self.assembly_stale = false;
@@ -1014,11 +1023,6 @@ impl Model {
             }
         }
         let n_eq = self.eq_class.len();
-        // A symmetric tangent factorized symmetrically stores its lower triangle.
-        let storage = match self.symmetric_solvers && self.symmetric_tangent() {
-            true => Storage::Lower,
-            false => Storage::Full,
-        };
         // The current assembly or the kept one of another phase, where
         // either is this pattern; one of another phase is kept.
         let previous = std::mem::replace(&mut self.assembly, Assembly::new(0, Vec::new()));
@@ -1181,23 +1185,11 @@ impl Model {
     /// Replaces every body's conductivity by its value at `theta` (K),
     /// constant: the thermal phase of the two-phase framework (Sect. 3.1).
     pub fn freeze_conductivity(&mut self, theta: f64) {
-        let symmetric = self.symmetric_tangent();
         let t = self.scales.temp(theta);
         for b in &mut self.bodies {
             let (k, _) = b.material.conductivity(t);
             b.material.thermal_conductivity = k;
             b.material.conductivity_slope = 0.0;
-        }
-        self.storage_follows_symmetry(symmetric);
-    }
-
-    /// Where the tangent's symmetry changed from `symmetric` (a conductivity
-    /// frozen or restored in the thermal phase), the assembly is to store
-    /// the other triangles ([`Model::tangent_storage`]): a lower triangle
-    /// must not reach LU.
-    fn storage_follows_symmetry(&mut self, symmetric: bool) {
-        if self.symmetric_tangent() != symmetric {
-            self.mark_assembly_stale();
         }
     }
 
@@ -1263,22 +1255,18 @@ impl Model {
 
     /// Freezes one body's conductivity at its value at `theta` (K).
     pub fn freeze_body_conductivity(&mut self, body: usize, theta: f64) {
-        let symmetric = self.symmetric_tangent();
         let t = self.scales.temp(theta);
         let m = &mut self.bodies[body].material;
         let (k, _) = m.conductivity(t);
         m.thermal_conductivity = k;
         m.conductivity_slope = 0.0;
-        self.storage_follows_symmetry(symmetric);
     }
 
     /// Restores the bodies' materials as built (undoes the freezes).
     pub fn restore_materials(&mut self) {
-        let symmetric = self.symmetric_tangent();
         for (b, m) in self.bodies.iter_mut().zip(&self.base_materials) {
             b.material = m.clone();
         }
-        self.storage_follows_symmetry(symmetric);
     }
 
     /// Sets every prescribed component of the state to its value exactly.
