@@ -1607,13 +1607,13 @@ fn max_newton_iterations(results: &[PointResult]) -> usize {
 }
 
 /// Whether a failed solve ended on a state the model cannot evaluate (a residual
-/// that is not finite): Newton's failure at a constant load (a level's re-solve
-/// from its carried-over state, whose prescribed values [`transfer_state`]
-/// holds), or the load stepping's last one where the load varies and it cut
-/// back.
+/// that is not finite), or failed after shortening increments that led to such
+/// states: Newton's failure at a constant load (a level's re-solve from its
+/// carried-over state, whose prescribed values [`transfer_state`] holds), or
+/// the load stepping's last one where the load varies and it cut back.
 fn starts_unevaluable(e: &Error) -> bool {
     match e {
-        Error::NewtonDiverged { reason, .. } => reason == NON_FINITE_RESIDUAL,
+        Error::NewtonDiverged { reason, .. } => reason.starts_with(NON_FINITE_RESIDUAL),
         Error::LoadStepStalled { last, .. } => starts_unevaluable(last),
         _ => false,
     }
@@ -1948,7 +1948,9 @@ mod tests {
     /// A level is solved again (from the configuration solved, then from
     /// rest) where its solve ended on a residual
     /// that is not finite, whether Newton failed at a constant load or the
-    /// load stepping cut back to its minimum; not where it stalled.
+    /// load stepping cut back to its minimum, or where it stalled after
+    /// shortening increments that led to such states; not where it stalled
+    /// otherwise.
     #[test]
     fn only_an_unevaluable_state_is_solved_again_from_rest() {
         let newton = |reason: &str| Error::NewtonDiverged {
@@ -1967,6 +1969,8 @@ mod tests {
         assert!(starts_unevaluable(&stalled(newton(NON_FINITE_RESIDUAL))));
         assert!(!starts_unevaluable(&newton(stall)));
         assert!(!starts_unevaluable(&stalled(newton(stall))));
+        let shortened = format!("{NON_FINITE_RESIDUAL} met and increments halved 2×, then {stall}");
+        assert!(starts_unevaluable(&newton(&shortened)));
         assert!(!starts_unevaluable(&Error::Geometry("x".into())));
     }
 
