@@ -788,10 +788,7 @@ impl Newton {
                 if norms.iter().all(|v| v.is_finite()) {
                     break (analysis, version, prepared, assembled, norms);
                 }
-                match taken
-                    .as_mut()
-                    .filter(|t| shortens && t.halvings < UNEVALUABLE_HALVINGS)
-                {
+                match taken.as_mut().filter(|t| t.halvings < UNEVALUABLE_HALVINGS) {
                     Some(t) => {
                         t.halve(p);
                         shortened.set(shortened.get() + 1);
@@ -1018,7 +1015,7 @@ impl Newton {
                 }
                 r.iter_mut().for_each(|v| *v *= t);
             }
-            taken = Some(TakenIncrement {
+            taken = shortens.then(|| TakenIncrement {
                 from: p.save(),
                 increment: r.clone(),
                 halvings: 0,
