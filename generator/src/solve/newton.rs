@@ -1149,18 +1149,19 @@ const CYCLE_LINE_SEARCHES: usize = 4;
 /// Only the path of the iterates changes, not what converges. Where the load
 /// varies, load stepping's cut-back is the remedy (shortened increments at the
 /// full load took about five times as long as the cut-back on the case mesh
-/// of the measured surface of docs/adaptivity.md, "Stop 92", whose adaptive
-/// levels' carried-over states had each failed in their first increment and
-/// been solved again from rest; with the shortening they converge, 3.4 times
-/// faster over three levels).
+/// of the measured surface of docs/adaptivity.md, "Stop 92". There, at
+/// 20 kPa, adaptive levels whose carried-over states had failed in their
+/// first increments and been solved again from rest converge with the
+/// shortening, the point 3.4 times faster over three levels; at 5 kPa, where
+/// fewer levels had fallen back, 1.03 times).
 const UNEVALUABLE_HALVINGS: usize = 5;
 
 /// Iterations without a new smallest residual ([`residual_merit`]) after
 /// which a solve that has shortened increments ([`UNEVALUABLE_HALVINGS`])
 /// ends, for the solve from the configuration solved or from rest that
 /// follows (`homogenize::path`). On the measured surface of
-/// docs/adaptivity.md, "Stop 92", the shortened solves that converged went
-/// at most 3 iterations without one; on its dented profile ("A narrow
+/// docs/adaptivity.md, "Stop 92", the shortened solves traced at 20 kPa that
+/// converged went at most 3 iterations without one; on its dented profile ("A narrow
 /// asperity") those that did not wandered at up to 70 times their smallest
 /// residual until their iterations ran out (30).
 const SHORTENED_STAGNATION: usize = 5;
