@@ -53,8 +53,9 @@ enum Command {
         quiet: bool,
     },
     /// Check a case or sweep file without solving: validate it, print the
-    /// resolved configuration with every default, the unknowns and the
-    /// estimated memory (exit 2 if invalid or if it cannot fit).
+    /// resolved configuration with every default, the unknowns, the
+    /// estimated memory and how the case mesh fits each rough surface
+    /// (exit 2 if invalid or if it cannot fit).
     Check {
         /// A case file (tcgen solve) or a sweep file (tcgen sweep, with [sweep]).
         file: std::path::PathBuf,
@@ -246,12 +247,24 @@ fn failures_exit(failed: usize, allow: bool) -> ExitCode {
     }
 }
 
-/// The case's known limits ([`tcgen::sample::Case::cautions`]) on stderr,
-/// before a run starts.
+/// The case's known limits ([`tcgen::sample::Case::cautions`], and a fixed
+/// mesh's fit that misses its surface, [`fit_cautions`]) on stderr, before a
+/// run starts.
 fn print_cautions(case: &tcgen::sample::Case) {
-    for c in case.cautions() {
+    for c in case.cautions().into_iter().chain(fit_cautions(case)) {
         eprintln!("caution: {c}");
     }
+}
+
+/// [`tcgen::io::surface_csv::CaseFits::cautions`] of a fixed mesh; none for
+/// an adaptive case, or where the surfaces cannot be built (the run says
+/// why).
+fn fit_cautions(case: &tcgen::sample::Case) -> Vec<String> {
+    use tcgen::io::surface_csv::CaseFits;
+    if case.discretization.target_error.is_some() {
+        return Vec::new();
+    }
+    CaseFits::of(case).map_or(Vec::new(), |f| f.cautions(case))
 }
 
 fn sweep(a: SweepArgs) -> ExitCode {
@@ -263,7 +276,7 @@ fn sweep(a: SweepArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    print_cautions(&cfg.case);
+    print_cautions(&cfg.path_case(0, 0, 0));
     // Before any computing: the mesh fits in memory on every path run at once.
     let threads = a.threads.unwrap_or_else(rayon::current_num_threads);
     let busy = cfg.busy_threads(threads);
@@ -702,15 +715,23 @@ fn check(file: &std::path::Path, threads: Option<usize>) -> ExitCode {
             let n = c.busy_threads(threads.unwrap_or_else(rayon::current_num_threads));
             let (at_once, note) = resources::concurrent_paths(&c.case, n)?;
             paths_note = note;
-            Ok((c.case.clone(), c.resolved.clone(), at_once, "sweep"))
+            let sample0 = c.path_case(0, 0, 0);
+            Ok((
+                c.case.clone(),
+                c.resolved.clone(),
+                at_once,
+                "sweep",
+                sample0,
+            ))
         })
     } else {
         tcgen::sample::Case::read(file).and_then(|c| {
             let resolved = tcgen::sweep::config::resolved_case(&c)?;
-            Ok((c, resolved, threads.unwrap_or(1), "case"))
+            let same = c.clone();
+            Ok((c, resolved, threads.unwrap_or(1), "case", same))
         })
     };
-    let (case, resolved, concurrent, kind) = match loaded {
+    let (case, resolved, concurrent, kind, surfaces_case) = match loaded {
         Ok(x) => x,
         Err(e) => {
             eprintln!("error: {e}");
@@ -793,7 +814,19 @@ fn check(file: &std::path::Path, threads: Option<usize>) -> ExitCode {
     if let Some(note) = paths_note {
         println!("# {note}");
     }
-    for c in case.cautions() {
+    // The surfaces as the case mesh fits them (sample 0 of an ensemble).
+    let fits = match tcgen::io::surface_csv::CaseFits::of(&surfaces_case) {
+        Ok(f) => f,
+        Err(err) => {
+            eprintln!("error: {err}");
+            return ExitCode::from(2);
+        }
+    };
+    let sample = if is_sweep { " (sample 0)" } else { "" };
+    for line in fits.describe() {
+        println!("# {line}{sample}");
+    }
+    for c in case.cautions().into_iter().chain(fits.cautions(&case)) {
         println!("# caution: {c}");
     }
     match resources::memory_limit() {

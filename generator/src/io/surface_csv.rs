@@ -154,6 +154,91 @@ pub fn export_heightmap(
     })
 }
 
+/// Share of its RMS by which a rough surface's fit on a fixed case mesh may
+/// miss it before `tcgen check`, `solve` and `sweep` caution: the egg box's
+/// 6 × 6 fit, off by 4.1 % of its RMS (its curvature at the crest 10.7 %
+/// low), moved the jump at 100 kPa by −1.1 % against the exact surface on
+/// the same mesh, the size of a 1 % target (docs/3d.md, "The surface under
+/// refinement"). Fixed meshes solve the fitted surface (`interface_levels`
+/// keep the fit); adaptive levels fit the surface itself where they refine.
+pub const FIT_CAUTION_SHARE: f64 = 0.04;
+
+/// How the case mesh's NURBS fits represent the two surfaces (upper,
+/// lower): sampled as `tcgen surface` samples them (2D: 1024 abscissae; 3D:
+/// the 256 × 256 grid), the surfaces of sample 0 of a random ensemble.
+#[derive(Clone, Copy, Debug)]
+pub struct CaseFits {
+    /// RMS of the surfaces `[upper, lower]` (m).
+    pub rms: [f64; 2],
+    /// Largest fit error `[upper, lower]` (m).
+    pub max_error: [f64; 2],
+    /// RMS fit error `[upper, lower]` (m).
+    pub rms_error: [f64; 2],
+}
+
+impl CaseFits {
+    /// The fits of `case`'s surfaces on its case mesh.
+    pub fn of(case: &Case) -> Result<Self> {
+        if case.dimension() == 3 {
+            let e = export_heightmap(case, 256, 0, true)?;
+            Ok(CaseFits {
+                rms: e.rms,
+                max_error: e.fit_max_error,
+                rms_error: e.fit_rms_error,
+            })
+        } else {
+            let e = export_surfaces(case, 1024)?;
+            Ok(CaseFits {
+                rms: e.rms,
+                max_error: e.fit_max_error,
+                rms_error: e.fit_rms_error,
+            })
+        }
+    }
+
+    /// One line per rough body: its RMS and its fit's errors, also as
+    /// shares of the RMS.
+    pub fn describe(&self) -> Vec<String> {
+        ["upper", "lower"]
+            .into_iter()
+            .enumerate()
+            .filter(|&(b, _)| self.rms[b] > 0.0)
+            .map(|(b, name)| {
+                format!(
+                    "{name} surface: RMS {:.4e} m; its fit on the case mesh misses it by at most {:.3e} m ({:.1} % of the RMS), {:.3e} m RMS ({:.1} %)",
+                    self.rms[b],
+                    self.max_error[b],
+                    100.0 * self.max_error[b] / self.rms[b],
+                    self.rms_error[b],
+                    100.0 * self.rms_error[b] / self.rms[b],
+                )
+            })
+            .collect()
+    }
+
+    /// A caution for each rough body of a fixed mesh (`target_error`
+    /// absent) whose fit misses it by more than [`FIT_CAUTION_SHARE`] of
+    /// its RMS.
+    pub fn cautions(&self, case: &Case) -> Vec<String> {
+        if case.discretization.target_error.is_some() {
+            return Vec::new();
+        }
+        ["upper", "lower"]
+            .into_iter()
+            .enumerate()
+            .filter(|&(b, _)| self.max_error[b] > FIT_CAUTION_SHARE * self.rms[b])
+            .map(|(b, name)| {
+                format!(
+                    "the {name} surface's fit on the case mesh misses it by up to {:.1} % of its RMS ({:.3e} m): a fixed mesh solves the fitted surface (interface_levels keep the fit), and a fit {:.0} % off moved the egg box's jump by 1.1 % (docs/3d.md, \"The surface under refinement\"); refine elements_{name} laterally (tcgen surface shows the fit), or set target_error: the adaptive levels fit the surface itself where they refine",
+                    100.0 * self.max_error[b] / self.rms[b],
+                    self.max_error[b],
+                    100.0 * FIT_CAUTION_SHARE,
+                )
+            })
+            .collect()
+    }
+}
+
 /// The height-map CSV of an areal export: one line per y row.
 pub fn heightmap_csv(e: &ArealExport) -> String {
     let mut s = String::new();
@@ -222,6 +307,64 @@ pub fn write_surface_csv(e: &SurfaceExport, bodies: Bodies, path: &Path) -> Resu
 mod tests {
     use super::*;
     use crate::surface::{Profile, Surface};
+
+    /// `tcgen check` reports the case mesh's fit of each rough surface, and
+    /// cautions where a fixed mesh's fit misses its surface by more than
+    /// [`FIT_CAUTION_SHARE`] of the RMS: a 3D egg box on 2 × 2 elements (a
+    /// fit far off) and on 8 × 8 (1.3 %, below); never for an adaptive case
+    /// or a flat body.
+    #[test]
+    fn a_fixed_mesh_whose_fit_misses_its_surface_is_cautioned() {
+        let case = |n: usize, adaptive: bool| {
+            Case::from_toml(
+                &format!(
+                    r#"
+[sample]
+dimension = 3
+width = 1.0e-5
+height = 7.0e-6
+[surface.upper]
+kind = "sinusoid"
+pattern = "egg-box"
+rms = 1.0e-6
+wavelength = 1.0e-5
+[surface.lower]
+kind = "flat"
+[discretization]
+elements_upper = [{n}, {n}, 2]
+elements_lower = [{n}, {n}, 2]
+{}
+"#,
+                    if adaptive { "target_error = 0.01" } else { "" }
+                ),
+                Path::new("."),
+            )
+            .unwrap()
+        };
+        let coarse = CaseFits::of(&case(2, false)).unwrap();
+        let fine = CaseFits::of(&case(8, false)).unwrap();
+        // The egg box's RMS on the grid, the flat's none.
+        assert!((coarse.rms[0] - 1.0e-6).abs() < 1e-9 && coarse.rms[1] == 0.0);
+        assert!(coarse.max_error[0] > FIT_CAUTION_SHARE * coarse.rms[0]);
+        assert!(fine.max_error[0] < FIT_CAUTION_SHARE * fine.rms[0]);
+        assert!(fine.max_error[0] > fine.rms_error[0] && fine.rms_error[0] > 0.0);
+        let cautions = coarse.cautions(&case(2, false));
+        assert_eq!(cautions.len(), 1, "{cautions:?}");
+        assert!(
+            cautions[0].starts_with("the upper surface's fit"),
+            "{cautions:?}"
+        );
+        assert!(coarse.cautions(&case(2, true)).is_empty());
+        assert!(fine.cautions(&case(8, false)).is_empty());
+        // One line for the rough body, with its share of the RMS.
+        let lines = fine.describe();
+        assert_eq!(lines.len(), 1, "{lines:?}");
+        let share = format!(
+            "({:.1} % of the RMS)",
+            100.0 * fine.max_error[0] / fine.rms[0]
+        );
+        assert!(lines[0].contains(&share), "{lines:?}");
+    }
 
     #[test]
     fn a_random_profile_round_trips_through_profile_import() {
