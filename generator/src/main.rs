@@ -247,24 +247,12 @@ fn failures_exit(failed: usize, allow: bool) -> ExitCode {
     }
 }
 
-/// The case's known limits ([`tcgen::sample::Case::cautions`], and a fixed
-/// mesh's fit that misses its surface, [`fit_cautions`]) on stderr, before a
-/// run starts.
+/// The cautions of a run of `case` ([`tcgen::io::surface_csv::run_cautions`])
+/// on stderr, before it starts.
 fn print_cautions(case: &tcgen::sample::Case) {
-    for c in case.cautions().into_iter().chain(fit_cautions(case)) {
+    for c in tcgen::io::surface_csv::run_cautions(case) {
         eprintln!("caution: {c}");
     }
-}
-
-/// [`tcgen::io::surface_csv::CaseFits::cautions`] of a fixed mesh; none for
-/// an adaptive case, or where the surfaces cannot be built (the run says
-/// why).
-fn fit_cautions(case: &tcgen::sample::Case) -> Vec<String> {
-    use tcgen::io::surface_csv::CaseFits;
-    if case.discretization.target_error.is_some() {
-        return Vec::new();
-    }
-    CaseFits::of(case).map_or(Vec::new(), |f| f.cautions(case))
 }
 
 fn sweep(a: SweepArgs) -> ExitCode {
@@ -822,9 +810,20 @@ fn check(file: &std::path::Path, threads: Option<usize>) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let sample = if is_sweep { " (sample 0)" } else { "" };
-    for line in fits.describe() {
-        println!("# {line}{sample}");
+    let random = [&surfaces_case.surface.upper, &surfaces_case.surface.lower]
+        .iter()
+        .any(|s| s.random().is_some());
+    let sample = if is_sweep && random {
+        " (sample 0)"
+    } else {
+        ""
+    };
+    match fits.describe(&surfaces_case) {
+        Ok(lines) => lines.iter().for_each(|l| println!("# {l}{sample}")),
+        Err(err) => {
+            eprintln!("error: {err}");
+            return ExitCode::from(2);
+        }
     }
     for c in case.cautions().into_iter().chain(fits.cautions(&case)) {
         println!("# caution: {c}");

@@ -15,7 +15,7 @@ use std::path::Path;
 
 use crate::geometry::fit_height_map;
 use crate::sample::Case;
-use crate::sample::case::BodySurface;
+use crate::sample::case::{BodySurface, ElementCounts};
 use crate::sample::micro::sample_geometry;
 use crate::sweep::path::surface_rms;
 use crate::{Error, Result};
@@ -158,8 +158,8 @@ pub fn export_heightmap(
 /// miss it before `tcgen check`, `solve` and `sweep` caution: the egg box's
 /// 6 × 6 fit, off by 4.1 % of its RMS (its curvature at the crest 10.7 %
 /// low), moved the jump at 100 kPa by −1.1 % against the exact surface on
-/// the same mesh, the size of a 1 % target (docs/3d.md, "The surface under
-/// refinement"). Fixed meshes solve the fitted surface (`interface_levels`
+/// the same mesh, the size of a 1 % target (docs/adaptivity.md, "The
+/// surface under refinement"). Fixed meshes solve the fitted surface (`interface_levels`
 /// keep the fit); adaptive levels fit the surface itself where they refine.
 pub const FIT_CAUTION_SHARE: f64 = 0.04;
 
@@ -196,24 +196,50 @@ impl CaseFits {
         }
     }
 
-    /// One line per rough body: its RMS and its fit's errors, also as
-    /// shares of the RMS.
-    pub fn describe(&self) -> Vec<String> {
-        ["upper", "lower"]
+    /// Whether body `b`'s fit misses its surface by more than
+    /// [`FIT_CAUTION_SHARE`] of its RMS.
+    fn misses(&self, b: usize) -> bool {
+        self.max_error[b] > FIT_CAUTION_SHARE * self.rms[b]
+    }
+
+    /// One line per rough body of `case` (whose fits these are): its RMS
+    /// and its fit's errors, also as shares of the RMS, and where the fit
+    /// misses it by more than [`FIT_CAUTION_SHARE`], the lateral element
+    /// counts that fit it within that share ([`resolving_counts`]).
+    pub fn describe(&self, case: &Case) -> Result<Vec<String>> {
+        let mut out = Vec::new();
+        for (b, name) in ["upper", "lower"]
             .into_iter()
             .enumerate()
             .filter(|&(b, _)| self.rms[b] > 0.0)
-            .map(|(b, name)| {
-                format!(
-                    "{name} surface: RMS {:.4e} m; its fit on the case mesh misses it by at most {:.3e} m ({:.1} % of the RMS), {:.3e} m RMS ({:.1} %)",
-                    self.rms[b],
-                    self.max_error[b],
-                    100.0 * self.max_error[b] / self.rms[b],
-                    self.rms_error[b],
-                    100.0 * self.rms_error[b] / self.rms[b],
-                )
-            })
-            .collect()
+        {
+            let mut line = format!(
+                "{name} surface: RMS {:.4e} m; its fit on the case mesh misses it by at most {:.3e} m ({:.1} % of the RMS), {:.3e} m RMS ({:.1} %)",
+                self.rms[b],
+                self.max_error[b],
+                100.0 * self.max_error[b] / self.rms[b],
+                self.rms_error[b],
+                100.0 * self.rms_error[b] / self.rms[b],
+            );
+            if self.misses(b) {
+                let share = 100.0 * FIT_CAUTION_SHARE;
+                match resolving_counts(case, b)? {
+                    Some((n, max)) => write!(
+                        line,
+                        "; within {share:.0} % from elements_{name} = {n} ({:.1} %)",
+                        100.0 * max / self.rms[b]
+                    ),
+                    None => write!(
+                        line,
+                        "; not within {share:.0} % up to {} times the lateral elements",
+                        1 << RESOLVING_DOUBLINGS
+                    ),
+                }
+                .expect("a String takes writes");
+            }
+            out.push(line);
+        }
+        Ok(out)
     }
 
     /// A caution for each rough body of a fixed mesh (`target_error`
@@ -226,17 +252,57 @@ impl CaseFits {
         ["upper", "lower"]
             .into_iter()
             .enumerate()
-            .filter(|&(b, _)| self.max_error[b] > FIT_CAUTION_SHARE * self.rms[b])
+            .filter(|&(b, _)| self.misses(b))
             .map(|(b, name)| {
                 format!(
-                    "the {name} surface's fit on the case mesh misses it by up to {:.1} % of its RMS ({:.3e} m): a fixed mesh solves the fitted surface (interface_levels keep the fit), and a fit {:.0} % off moved the egg box's jump by 1.1 % (docs/3d.md, \"The surface under refinement\"); refine elements_{name} laterally (tcgen surface shows the fit), or set target_error: the adaptive levels fit the surface itself where they refine",
+                    "the {name} surface's fit on the case mesh misses it by up to {:.1} % of its RMS ({:.3e} m): a fixed mesh solves the fitted surface (interface_levels keep the fit), and a fit {share:.0} % off moved the egg box's jump by 1.1 % (docs/adaptivity.md, \"The surface under refinement\"); refine elements_{name} laterally (tcgen check names the counts that fit it within {share:.0} %), or set target_error: the adaptive levels fit the surface itself where they refine",
                     100.0 * self.max_error[b] / self.rms[b],
                     self.max_error[b],
-                    100.0 * FIT_CAUTION_SHARE,
+                    share = 100.0 * FIT_CAUTION_SHARE,
                 )
             })
             .collect()
     }
+}
+
+/// What a run of `case` is cautioned with before it starts (`tcgen solve`,
+/// `sweep`, and a table's `cautions` attribute): the case's known limits
+/// ([`Case::cautions`]) and, for a fixed mesh, the surfaces that its fit
+/// misses ([`CaseFits::cautions`]; of a sweep, pass its sample 0). Surfaces
+/// that cannot be built give no fit caution: the run itself says why.
+pub fn run_cautions(case: &Case) -> Vec<String> {
+    let mut out = case.cautions();
+    if case.discretization.target_error.is_none()
+        && let Ok(fits) = CaseFits::of(case)
+    {
+        out.extend(fits.cautions(case));
+    }
+    out
+}
+
+/// How many times [`resolving_counts`] doubles the lateral element counts.
+pub const RESOLVING_DOUBLINGS: u32 = 4;
+
+/// The case mesh's counts for body `b` with the lateral ones doubled until
+/// its fit misses the surface by at most [`FIT_CAUTION_SHARE`] of its RMS
+/// (at most [`RESOLVING_DOUBLINGS`] times), and that fit's largest error;
+/// `None` where none of them does.
+pub fn resolving_counts(case: &Case, b: usize) -> Result<Option<(ElementCounts, f64)>> {
+    for k in 1..=RESOLVING_DOUBLINGS {
+        let mut finer = case.clone();
+        let d = &mut finer.discretization;
+        let counts = match b {
+            0 => &mut d.elements_upper,
+            _ => &mut d.elements_lower,
+        };
+        *counts = counts.laterally_scaled(1 << k);
+        let n = counts.clone();
+        let fits = CaseFits::of(&finer)?;
+        if !fits.misses(b) {
+            return Ok(Some((n, fits.max_error[b])));
+        }
+    }
+    Ok(None)
 }
 
 /// The height-map CSV of an areal export: one line per y row.
@@ -357,13 +423,24 @@ elements_lower = [{n}, {n}, 2]
         assert!(coarse.cautions(&case(2, true)).is_empty());
         assert!(fine.cautions(&case(8, false)).is_empty());
         // One line for the rough body, with its share of the RMS.
-        let lines = fine.describe();
+        let lines = fine.describe(&case(8, false)).unwrap();
         assert_eq!(lines.len(), 1, "{lines:?}");
         let share = format!(
             "({:.1} % of the RMS)",
             100.0 * fine.max_error[0] / fine.rms[0]
         );
         assert!(lines[0].contains(&share), "{lines:?}");
+        assert!(!lines[0].contains("within"), "{lines:?}");
+        // The coarse fit names the lateral counts that fit within the
+        // share: the 8 × 8 mesh's, two doublings away (4 × 4 does not).
+        let lines = coarse.describe(&case(2, false)).unwrap();
+        let eight = format!(
+            "; within 4 % from elements_upper = [8, 8, 2] ({:.1} %)",
+            100.0 * fine.max_error[0] / fine.rms[0]
+        );
+        assert!(lines[0].ends_with(&eight), "{lines:?}");
+        let four = CaseFits::of(&case(4, false)).unwrap();
+        assert!(four.misses(0), "{four:?}");
     }
 
     #[test]

@@ -398,7 +398,7 @@ pub fn run_sweep(cfg: &SweepConfig, output: &Path, options: &SweepOptions) -> Re
         wall_time: start.elapsed().as_secs_f64(),
         threads: vec![threads as i32],
         shard: (!shard.is_all()).then_some(shard),
-        cautions: cfg.case.cautions(),
+        cautions: crate::io::surface_csv::run_cautions(&cfg.path_case(0, 0, 0)),
     };
     let table = assemble(cfg, &all, info)?;
     let t = Instant::now();

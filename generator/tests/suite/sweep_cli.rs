@@ -224,6 +224,19 @@ fn check_prints_the_resolved_case_and_refuses_what_cannot_fit() {
     .unwrap();
     let out = succeeded(tcgen().arg("check").arg(&p1));
     assert!(out.contains("# caution: degree 1 in 3D"), "{out}");
+    // A fixed mesh whose fit misses its surface (the self-affine surface of
+    // the tamaas checks on 8 x 8 elements, 78 % of its RMS) is cautioned,
+    // with the lateral counts that fit it within 4 %.
+    let out = succeeded(
+        tcgen()
+            .arg("check")
+            .arg(root.join("generator/tests/data/random_self_affine.toml")),
+    );
+    assert!(
+        out.contains("# caution: the upper surface's fit on the case mesh misses it by up to")
+            && out.contains("; within 4 % from elements_upper = [32, 32, 4]"),
+        "{out}"
+    );
     let huge = dir.join("huge.toml");
     std::fs::write(
         &huge,
@@ -471,10 +484,17 @@ fn a_3d_case_is_checked_solved_tabled_and_mapped() {
     };
     assert_eq!(get("dimension"), Some("3"));
     assert_eq!(get("cell_size"), Some("1e-5 1e-5"));
-    // No cautions at degree 2; at degree 1 in 3D the ones that `tcgen
-    // sweep` prints travel with the table and the law.
-    assert!(t.info.cautions.is_empty(), "{:?}", t.info.cautions);
-    assert_eq!(get("cautions"), None);
+    // At degree 2 only the coarse mesh's fit (3 x 3 elements, 72 % of the
+    // egg box's RMS); at degree 1 in 3D its own as well: the cautions that
+    // `tcgen sweep` prints travel with the table and the law.
+    let misses = "the upper surface's fit on the case mesh misses it by up to";
+    let fit = format!("{misses} 72.0 % of its RMS");
+    assert!(
+        t.info.cautions.len() == 1 && t.info.cautions[0].starts_with(&fit),
+        "{:?}",
+        t.info.cautions
+    );
+    assert_eq!(get("cautions"), Some(t.info.cautions[0].as_str()));
     let sweep_p1 = dir.join("egg_box_sweep_p1.toml");
     let text_p1 = std::fs::read_to_string(&sweep)
         .unwrap()
@@ -490,11 +510,21 @@ fn a_3d_case_is_checked_solved_tabled_and_mapped() {
     let printed = String::from_utf8_lossy(&o.stderr).into_owned();
     assert!(o.status.success(), "{printed}");
     let t1 = tcgen::io::read_table(&table_p1).unwrap();
-    let case_p1 = tcgen::sweep::SweepConfig::read(&sweep_p1).unwrap().case;
-    assert_eq!(t1.info.cautions, case_p1.cautions());
-    assert!(!t1.info.cautions.is_empty());
+    let case_p1 = tcgen::sweep::SweepConfig::read(&sweep_p1)
+        .unwrap()
+        .path_case(0, 0, 0);
+    assert_eq!(
+        t1.info.cautions,
+        tcgen::io::surface_csv::run_cautions(&case_p1)
+    );
+    assert_eq!(t1.info.cautions.len(), case_p1.cautions().len() + 1);
+    assert!(!case_p1.cautions().is_empty());
     for c in &t1.info.cautions {
-        assert!(c.starts_with("degree 1 in 3D"), "{c}");
+        // The bilinear fit misses the egg box by more (150 %).
+        assert!(
+            c.starts_with("degree 1 in 3D") || c.starts_with(misses),
+            "{c}"
+        );
         assert!(
             printed.contains(&format!("caution: {c}")),
             "{c} not in {printed}"

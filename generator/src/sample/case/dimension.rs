@@ -239,6 +239,19 @@ impl ElementCounts {
         ElementCounts(self.0.iter().map(|n| n * factor).collect())
     }
 
+    /// The lateral counts multiplied by `factor`, those through the height
+    /// kept (a case mesh refined along the surfaces).
+    pub fn laterally_scaled(&self, factor: usize) -> Self {
+        let last = self.0.len().saturating_sub(1);
+        ElementCounts(
+            self.0
+                .iter()
+                .enumerate()
+                .map(|(i, n)| if i < last { n * factor } else { *n })
+                .collect(),
+        )
+    }
+
     /// The lateral counts (`[nx]` in 2D, `[nx, ny]` in 3D).
     pub fn lateral(&self) -> &[usize] {
         &self.0[..self.0.len().saturating_sub(1)]
