@@ -703,7 +703,7 @@ fn check(file: &std::path::Path, threads: Option<usize>) -> ExitCode {
             let n = c.busy_threads(threads.unwrap_or_else(rayon::current_num_threads));
             let (at_once, note) = resources::concurrent_paths(&c.case, n)?;
             paths_note = note;
-            let sample0 = c.path_case(0, 0, 0);
+            let sample0 = Some(c.path_case(0, 0, 0));
             Ok((
                 c.case.clone(),
                 c.resolved.clone(),
@@ -715,11 +715,10 @@ fn check(file: &std::path::Path, threads: Option<usize>) -> ExitCode {
     } else {
         tcgen::sample::Case::read(file).and_then(|c| {
             let resolved = tcgen::sweep::config::resolved_case(&c)?;
-            let same = c.clone();
-            Ok((c, resolved, threads.unwrap_or(1), "case", same))
+            Ok((c, resolved, threads.unwrap_or(1), "case", None))
         })
     };
-    let (case, resolved, concurrent, kind, surfaces_case) = match loaded {
+    let (case, resolved, concurrent, kind, sample0) = match loaded {
         Ok(x) => x,
         Err(e) => {
             eprintln!("error: {e}");
@@ -802,8 +801,9 @@ fn check(file: &std::path::Path, threads: Option<usize>) -> ExitCode {
     if let Some(note) = paths_note {
         println!("# {note}");
     }
-    // The surfaces as the case mesh fits them (sample 0 of an ensemble).
-    let fits = match tcgen::io::surface_csv::CaseFits::of(&surfaces_case) {
+    // The surfaces as the case mesh fits them (a sweep's sample 0).
+    let surfaces_case = sample0.as_ref().unwrap_or(&case);
+    let fits = match tcgen::io::surface_csv::CaseFits::of(surfaces_case) {
         Ok(f) => f,
         Err(err) => {
             eprintln!("error: {err}");
@@ -818,14 +818,14 @@ fn check(file: &std::path::Path, threads: Option<usize>) -> ExitCode {
     } else {
         ""
     };
-    match fits.describe(&surfaces_case) {
+    match fits.describe(surfaces_case) {
         Ok(lines) => lines.iter().for_each(|l| println!("# {l}{sample}")),
         Err(err) => {
             eprintln!("error: {err}");
             return ExitCode::from(2);
         }
     }
-    for c in case.cautions().into_iter().chain(fits.cautions(&case)) {
+    for c in tcgen::io::surface_csv::run_cautions_with(&case, Some(&fits)) {
         println!("# caution: {c}");
     }
     match resources::memory_limit() {

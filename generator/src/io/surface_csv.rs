@@ -180,7 +180,9 @@ impl CaseFits {
     /// The fits of `case`'s surfaces on its case mesh.
     pub fn of(case: &Case) -> Result<Self> {
         if case.dimension() == 3 {
-            let e = export_heightmap(case, 256, 0, true)?;
+            // The surface's own heights (a copy of the grid the measures
+            // sample), not a third grid of the fit's.
+            let e = export_heightmap(case, 256, 0, false)?;
             Ok(CaseFits {
                 rms: e.rms,
                 max_error: e.fit_max_error,
@@ -278,12 +280,20 @@ impl CaseFits {
 /// misses ([`CaseFits::cautions`]; of a sweep, pass its sample 0). Surfaces
 /// that cannot be built give no fit caution: the run itself says why.
 pub fn run_cautions(case: &Case) -> Vec<String> {
+    let fits = case
+        .discretization
+        .target_error
+        .is_none()
+        .then(|| CaseFits::of(case).ok())
+        .flatten();
+    run_cautions_with(case, fits.as_ref())
+}
+
+/// [`run_cautions`] with the fits already measured (`tcgen check`, which
+/// prints them too), or none.
+pub fn run_cautions_with(case: &Case, fits: Option<&CaseFits>) -> Vec<String> {
     let mut out = case.cautions();
-    if case.discretization.target_error.is_none()
-        && let Ok(fits) = CaseFits::of(case)
-    {
-        out.extend(fits.cautions(case));
-    }
+    out.extend(fits.map(|f| f.cautions(case)).unwrap_or_default());
     out
 }
 

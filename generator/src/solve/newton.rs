@@ -1167,7 +1167,8 @@ const UNEVALUABLE_HALVINGS: usize = 5;
 const SHORTENED_STAGNATION: usize = 5;
 
 /// A Newton increment as taken ([`UNEVALUABLE_HALVINGS`]): the state it was
-/// taken from ([`NonlinearProblem::save`]) and the increment applied.
+/// taken from ([`NonlinearProblem::save`]), the full increment, and how many
+/// times the step along it has been halved.
 struct TakenIncrement {
     from: Vec<f64>,
     increment: Vec<f64>,
@@ -1175,14 +1176,30 @@ struct TakenIncrement {
 }
 
 impl TakenIncrement {
-    /// Takes half of the increment instead, from the same state.
+    /// Takes half of the last step along the increment instead, from the
+    /// same state.
     fn halve<P: NonlinearProblem + ?Sized>(&mut self, p: &mut P) {
         self.halvings += 1;
-        self.increment.iter_mut().for_each(|d| *d *= 0.5);
-        p.restore(&self.from);
-        p.update(&self.increment);
-        p.after_update();
+        let mut step = vec![0.0; self.increment.len()];
+        let t = 0.5f64.powi(self.halvings as i32);
+        step_from(p, &self.from, &self.increment, t, &mut step);
     }
+}
+
+/// Moves `p` to the saved state `from` plus `t · dx` (`step` receives the
+/// scaled increment): a shortened Newton step ([`TakenIncrement::halve`],
+/// [`cycle_line_search`]).
+fn step_from<P: NonlinearProblem + ?Sized>(
+    p: &mut P,
+    from: &[f64],
+    dx: &[f64],
+    t: f64,
+    step: &mut [f64],
+) {
+    p.restore(from);
+    step.iter_mut().zip(dx).for_each(|(s, d)| *s = t * d);
+    p.update(step);
+    p.after_update();
 }
 
 /// The largest [`residual_merit`] at which a cycle of two is searched along
@@ -1229,10 +1246,7 @@ fn cycle_line_search<P: NonlinearProblem + ?Sized>(
     let mut step = vec![0.0; dx.len()];
     let mut residual = vec![0.0; dx.len()];
     let mut merit_at = |p: &mut P, t: f64| -> Result<f64> {
-        p.restore(&saved);
-        step.iter_mut().zip(dx).for_each(|(s, d)| *s = t * d);
-        p.update(&step);
-        p.after_update();
+        step_from(p, &saved, dx, t, &mut step);
         // A state that cannot be evaluated (the contact search refusing it)
         // is not a step to take; memory that is not there stays an error.
         match p.prepare().and_then(|_| p.assemble(None, &mut residual)) {
