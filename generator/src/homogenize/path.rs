@@ -1871,14 +1871,6 @@ fn solve_path_adaptive(
     })
 }
 
-/// The next input of the self-consistency iterations `ϑ ← F(ϑ)` (Sect. 3.3)
-/// by [`Acceleration`]: the secant through the last two pairs `(ϑ, F(ϑ))`
-/// gives the fixed point of the line `F(ϑk) + F'(ϑ − ϑk)`,
-/// `ϑ = F(ϑk) + F'/(1 − F') (F(ϑk) − ϑk)`. The first pair is `(0, F(0))`
-/// (the plain two-phase jump); the first input extrapolates from it with the
-/// slope of the previous pressure's iterations where there is one (`F'`
-/// changes slowly along a path: −0.09, −0.06, −0.02 at 1, 10, 100 kPa on the
-/// Sect. 5.7 sample), and is `F(0)` otherwise.
 /// The mechanical phase's end states along the self-consistency iterations at
 /// one pressure and flux, each with the slave's temperature offset `ϑ̄c` it
 /// was solved at (the plain solve's at 0 first). The slave's properties
@@ -1953,6 +1945,14 @@ impl MechanicalStarts {
     }
 }
 
+/// The next input of the self-consistency iterations `ϑ ← F(ϑ)` (Sect. 3.3)
+/// by [`Acceleration`]: the secant through the last two pairs `(ϑ, F(ϑ))`
+/// gives the fixed point of the line `F(ϑk) + F'(ϑ − ϑk)`,
+/// `ϑ = F(ϑk) + F'/(1 − F') (F(ϑk) − ϑk)`. The first pair is `(0, F(0))`
+/// (the plain two-phase jump); the first input extrapolates from it with the
+/// slope of the previous pressure's iterations where there is one (`F'`
+/// changes slowly along a path: −0.09, −0.06, −0.02 at 1, 10, 100 kPa on the
+/// Sect. 5.7 sample), and is `F(0)` otherwise.
 #[derive(Clone, Copy, Debug)]
 struct Secant {
     acceleration: Acceleration,
