@@ -1219,8 +1219,10 @@ impl<'a> PathSolver<'a> {
                     } else {
                         [theta_c, t_slave]
                     };
-                    if let Some((t, start)) =
-                        starts.start(input).filter(|_| self.extrapolated_starts)
+                    if let Some((t, start)) = self
+                        .extrapolated_starts
+                        .then(|| starts.start(input))
+                        .flatten()
                     {
                         if trace {
                             eprintln!(
