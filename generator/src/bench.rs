@@ -12,7 +12,7 @@
 //! solve are the best of two runs, since the machine may be shared.
 
 use crate::bulk::global::Assembly;
-use crate::homogenize::path::PhaseCost;
+use crate::homogenize::path::{PhaseCost, PhaseCosts};
 use crate::solve::linear::{Factorization, LinearSolver, Ordering};
 use crate::solve::ordering::nested_dissection;
 use crate::{Error, Result};
@@ -1303,6 +1303,8 @@ pub struct Solver3dRow {
     pub symbolic_s: f64,
     /// Numeric factorization, s.
     pub numeric_s: f64,
+    /// Its floating-point operations (`None` for LU: faer does not expose its factor).
+    pub factor_flops: Option<f64>,
     /// GMRES iterations and seconds of [`LinearSolver::solve_preconditioned`] on a nearby
     /// matrix (entries scaled by `1 + 0.03 cos(i + j)`, symmetric), preconditioned by the
     /// factorization: what a Newton iteration that keeps the factors pays instead of
@@ -1418,6 +1420,7 @@ pub fn solver_3d_bench(degree: usize, elements: &[usize]) -> Result<Vec<Solver3d
                 assembly_s,
                 symbolic_s,
                 numeric_s,
+                factor_flops: solver.factor_flops(),
                 krylov,
             });
         }
@@ -1429,15 +1432,21 @@ pub fn solver_3d_bench(degree: usize, elements: &[usize]) -> Result<Vec<Solver3d
 pub fn format_solver_3d_bench(degree: usize, rows: &[Solver3dRow]) -> String {
     let mut s = format!(
         "3D direct solvers (p = {degree} warped cube, n^3 elements, first factorization)\n\
-         system                       n  unknowns   nnz(A)  L values MB  assembly s  symbolic s  numeric s  GMRES (nearby matrix)\n",
+         system                       n  unknowns   nnz(A)  L values MB  assembly s  symbolic s  numeric s    Gflop  Gflop/s  GMRES (nearby matrix)\n",
     );
     for r in rows {
         let factor = r.factor_nnz.map_or_else(
             || "n/a".to_string(),
             |z| format!("{:.1}", (r.factor_value_bytes * z) as f64 / 1e6),
         );
+        let (work, rate) = r.factor_flops.map_or(("n/a".into(), "n/a".into()), |f| {
+            (
+                format!("{:.2}", f / 1e9),
+                format!("{:.1}", f / r.numeric_s / 1e9),
+            )
+        });
         s.push_str(&format!(
-            "{:<27} {:>3} {:>9} {:>8.2e} {:>12} {:>11.3} {:>11.3} {:>10.3}  {}\n",
+            "{:<27} {:>3} {:>9} {:>8.2e} {:>12} {:>11.3} {:>11.3} {:>10.3} {:>8} {:>8}  {}\n",
             r.system,
             r.elements,
             r.unknowns,
@@ -1446,6 +1455,8 @@ pub fn format_solver_3d_bench(degree: usize, rows: &[Solver3dRow]) -> String {
             r.assembly_s,
             r.symbolic_s,
             r.numeric_s,
+            work,
+            rate,
             r.krylov.map_or_else(
                 || "no convergence".to_string(),
                 |(k, t)| format!("{k} its, {t:.3} s")
@@ -1594,7 +1605,7 @@ pub fn egg_box_case(mesh: EggBoxMesh) -> Result<crate::sample::Case> {
 /// pressure the jump, its estimate, the unknowns, contact fraction,
 /// iterations and wall time; and the time per phase, every adaptive level
 /// included.
-pub fn egg_box_bench(case: &crate::sample::Case) -> Result<(PhaseCost, Vec<EggBoxBenchRow>)> {
+pub fn egg_box_bench(case: &crate::sample::Case) -> Result<(PhaseCosts, Vec<EggBoxBenchRow>)> {
     let mut solver = crate::homogenize::path::PathSolver::new(case)?;
     let mut rows = Vec::new();
     for &p in &case.load.pressures {
@@ -1617,6 +1628,33 @@ pub fn egg_box_bench(case: &crate::sample::Case) -> Result<(PhaseCost, Vec<EggBo
     Ok((solver.phase_cost(), rows))
 }
 
+/// A phase's cost as text: its wall time and Newton iterations, then where
+/// the iterations' time went (preparation, residuals, tangents, linear
+/// solves) and the time, work and rate of the numeric factorizations among
+/// the linear solves (the rate compares machines and days where seconds
+/// alone do not).
+fn format_phase_cost(c: &PhaseCost) -> String {
+    let t = &c.parts;
+    let rate = match t.factorizations > 0.0 {
+        true => format!(
+            ", {:.1} Gflop/s",
+            t.factorization_flops / t.factorizations / 1e9
+        ),
+        false => String::new(),
+    };
+    format!(
+        "{:.1} s ({} Newton iterations: preparation {:.1} s, residuals {:.1} s, tangents {:.1} s, linear solves {:.1} s, of which numeric factorizations {:.1} s, {:.3} Tflop{rate})",
+        c.seconds,
+        c.newton_iterations,
+        t.preparation,
+        t.residuals,
+        t.tangents,
+        t.linear_solves,
+        t.factorizations,
+        t.factorization_flops / 1e12
+    )
+}
+
 /// Peak resident memory of this process (bytes; Linux `VmHWM`), if known.
 pub fn peak_resident_bytes() -> Option<u64> {
     crate::solve::resources::process_memory("VmHWM:")
@@ -1627,7 +1665,7 @@ pub fn peak_resident_bytes() -> Option<u64> {
 /// wall time per phase and the peak resident memory.
 pub fn format_egg_box_bench(
     case: &crate::sample::Case,
-    phases: PhaseCost,
+    phases: PhaseCosts,
     rows: &[EggBoxBenchRow],
 ) -> String {
     use std::fmt::Write;
@@ -1705,8 +1743,9 @@ pub fn format_egg_box_bench(
     let total: f64 = rows.iter().map(|r| r.wall_s).sum();
     let _ = write!(
         s,
-        "total {total:.1} s; mechanical phase {:.1} s ({} Newton iterations), thermal phase {:.1} s ({} iterations)",
-        phases[0].0, phases[0].1, phases[1].0, phases[1].1
+        "total {total:.1} s; mechanical phase {}, thermal phase {}",
+        format_phase_cost(&phases[0]),
+        format_phase_cost(&phases[1])
     );
     match peak_resident_bytes() {
         Some(b) => {
@@ -1743,8 +1782,19 @@ mod tests {
         // Two levels do not resolve a spot of 1 % of the cell to 1 %.
         assert!(r.jump_error.is_some_and(|e| e > 0.01 * r.jump));
         assert_eq!(r.error_target_met, Some(false));
-        let counted: usize = phases.iter().map(|p| p.1).sum();
+        let counted: usize = phases.iter().map(|p| p.newton_iterations).sum();
         assert_eq!(counted, r.newton_iterations);
+        // Every phase factorized at least once (its first iteration); the
+        // factorizations are among the linear solves, and the iterations'
+        // parts within the phase's time.
+        for p in &phases[..2] {
+            let t = &p.parts;
+            assert!(t.factorization_flops > 0.0, "{p:?}");
+            assert!(t.factorizations > 0.0, "{p:?}");
+            assert!(t.factorizations <= t.linear_solves, "{p:?}");
+            let parts = t.preparation + t.residuals + t.tangents + t.linear_solves;
+            assert!(parts > 0.0 && parts <= p.seconds, "{p:?}");
+        }
         let text = format_egg_box_bench(&case, phases, &rows);
         assert!(text.contains("at 0 of 1 pressures"), "{text}");
         // The point that missed the target says why: the levels ran out.

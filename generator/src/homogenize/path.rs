@@ -25,7 +25,9 @@ use crate::sample::micro::{
 };
 use crate::sample::vtk::{Fields, PointInfo, VtkSeries};
 use crate::solve::resources::{format_bytes, process_memory};
-use crate::solve::{Model, NON_FINITE_RESIDUAL, Newton, NewtonSettings, NonlinearProblem};
+use crate::solve::{
+    IterationTimes, Model, NON_FINITE_RESIDUAL, Newton, NewtonSettings, NonlinearProblem,
+};
 use crate::{Error, Result};
 
 /// Outcome of one load point.
@@ -126,8 +128,28 @@ impl PointResult {
     }
 }
 
-/// Wall time (s) and Newton iterations per phase (mechanical, thermal, coupled).
-pub type PhaseCost = [(f64, usize); 3];
+/// The cost of one phase along a path (benchmarks).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PhaseCost {
+    /// Wall time, s.
+    pub seconds: f64,
+    /// Newton iterations.
+    pub newton_iterations: usize,
+    /// Where the iterations' time went, and the factorizations' work.
+    pub parts: IterationTimes,
+}
+
+impl PhaseCost {
+    /// Adds `other` to this cost.
+    fn add(&mut self, other: &PhaseCost) {
+        self.seconds += other.seconds;
+        self.newton_iterations += other.newton_iterations;
+        self.parts.add(&other.parts);
+    }
+}
+
+/// The cost of each phase: mechanical, thermal, coupled.
+pub type PhaseCosts = [PhaseCost; 3];
 
 /// The solver state of one sample along its path.
 pub struct PathSolver<'a> {
@@ -163,8 +185,8 @@ pub struct PathSolver<'a> {
     /// start of the self-consistent iterations that follow on the same mesh
     /// (the final adaptive level), which then need not solve them again.
     plain_phase: Option<(f64, ThermalPhase)>,
-    /// Wall time and Newton iterations spent per phase so far.
-    phase_cost: PhaseCost,
+    /// Wall time, Newton iterations and their parts per phase so far.
+    phase_cost: PhaseCosts,
     /// Sees every adaptive level as it ends ([`PathSolver::observe_levels`]).
     level_observer: Option<LevelObserver>,
 }
@@ -311,7 +333,7 @@ impl<'a> PathSolver<'a> {
             extrapolated_starts: true,
             step_bounds: Vec::new(),
             plain_phase: None,
-            phase_cost: [(0.0, 0); 3],
+            phase_cost: Default::default(),
             level_observer: None,
         })
     }
@@ -368,18 +390,21 @@ impl<'a> PathSolver<'a> {
             Coupling::Thermal => 1,
             Coupling::Coupled => 2,
         };
+        let before = self.newton.iteration_times();
         let iterations = solve(&mut self.newton, &mut self.model);
         let cost = &mut self.phase_cost[phase];
-        cost.0 += start.elapsed().as_secs_f64();
+        cost.seconds += start.elapsed().as_secs_f64();
+        cost.parts
+            .add(&self.newton.iteration_times().since(&before));
         let iterations = iterations?;
-        cost.1 += iterations;
+        cost.newton_iterations += iterations;
         Ok(iterations)
     }
 
-    /// Wall time (s) and Newton iterations spent so far in the mechanical,
-    /// thermal and coupled phases (benchmarks), the adaptive levels' solves
-    /// included.
-    pub fn phase_cost(&self) -> PhaseCost {
+    /// Wall time (s), Newton iterations and factorizations spent so far in
+    /// the mechanical, thermal and coupled phases (benchmarks), the adaptive
+    /// levels' solves included.
+    pub fn phase_cost(&self) -> PhaseCosts {
         self.phase_cost
     }
 
@@ -400,9 +425,8 @@ impl<'a> PathSolver<'a> {
     /// this one's.
     fn absorb_cost(&mut self, level: &mut PathSolver) {
         for (total, part) in self.phase_cost.iter_mut().zip(&mut level.phase_cost) {
-            total.0 += part.0;
-            total.1 += part.1;
-            *part = (0.0, 0);
+            total.add(part);
+            *part = PhaseCost::default();
         }
     }
 

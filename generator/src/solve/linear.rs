@@ -902,6 +902,15 @@ impl LinearSolver {
         }
     }
 
+    /// Floating-point operations of one numeric factorization
+    /// ([`cholesky_factor_flops`]); `None` for LU, whose factor faer does not expose.
+    pub fn factor_flops(&self) -> Option<f64> {
+        match &self.factors {
+            Factors::Lu { .. } => None,
+            Factors::Cholesky { symbolic, .. } => Some(cholesky_factor_flops(symbolic)),
+        }
+    }
+
     /// Bytes of the factor's values in the solver's precision (0 for LU,
     /// whose factor size is known only once factorized).
     pub fn factor_value_bytes(&self) -> usize {
@@ -1469,9 +1478,96 @@ impl Pivots {
     }
 }
 
+/// Floating-point operations of a numeric Cholesky or LDLᵀ factorization with
+/// this structure: `Σ_j (m_j² + 2 m_j)`, `m_j` the entries below the diagonal
+/// of column `j` as the factor stores them (a supernode's explicit zeros
+/// included, since its dense kernels compute them): the rank-one updates'
+/// multiply-adds of the lower triangle and the column's scaling. A dense
+/// `n × n` factor counts `n³/3 + O(n²)`. With the factorization's wall time
+/// it gives the rate a machine reaches (`tcgen bench`), which compares runs
+/// of different days and machines where seconds alone do not.
+pub fn cholesky_factor_flops(symbolic: &SymbolicCholesky<usize>) -> f64 {
+    let column = |m: usize| {
+        let m = m as f64;
+        m * m + 2.0 * m
+    };
+    match symbolic.raw() {
+        SymbolicCholeskyRaw::Supernodal(s) => {
+            let rows = s.col_ptr_for_row_idx();
+            (0..s.n_supernodes())
+                .map(|k| {
+                    let width = s.supernode_end()[k] - s.supernode_begin()[k];
+                    let below = rows[k + 1] - rows[k];
+                    (0..width)
+                        .map(|j| column(width - 1 - j + below))
+                        .sum::<f64>()
+                })
+                .sum()
+        }
+        // Each column's entries, its diagonal first.
+        SymbolicCholeskyRaw::Simplicial(s) => s
+            .col_ptr()
+            .windows(2)
+            .map(|c| column(c[1] - c[0] - 1))
+            .sum(),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The factorization's flop count: `Σ (m² + 2m)` over the columns of a
+    /// dense factor, supernodal or simplicial alike, and `3 (n − 1)` for a
+    /// tridiagonal matrix kept in its order (one entry below each diagonal
+    /// but the last).
+    #[test]
+    fn factor_flops_count_the_columns_below_their_diagonals() {
+        use faer::sparse::linalg::SupernodalThreshold;
+        // Both triangles of a banded matrix.
+        let banded = |n: usize, band: usize| {
+            let mut col_ptr = vec![0];
+            let mut row_idx = Vec::new();
+            for j in 0..n {
+                row_idx.extend(j.saturating_sub(band)..n.min(j + band + 1));
+                col_ptr.push(row_idx.len());
+            }
+            SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx)
+        };
+        let flops = |pattern: &SymbolicSparseColMat<usize>, threshold| {
+            let params = CholeskySymbolicParams {
+                supernodal_flop_ratio_threshold: threshold,
+                ..Default::default()
+            };
+            let symbolic = factorize_symbolic_cholesky(
+                pattern.as_ref(),
+                Side::Lower,
+                SymmetricOrdering::Identity,
+                params,
+            )
+            .expect("a symbolic factorization");
+            let supernodal = matches!(symbolic.raw(), SymbolicCholeskyRaw::Supernodal(_));
+            (cholesky_factor_flops(&symbolic), supernodal)
+        };
+        let n = 40;
+        let dense: f64 = (0..n).map(|m| (m * m + 2 * m) as f64).sum();
+        assert!((dense - (n * n * n) as f64 / 3.0).abs() < (n * n) as f64);
+        let full = banded(n, n);
+        assert_eq!(
+            flops(&full, SupernodalThreshold::FORCE_SUPERNODAL),
+            (dense, true)
+        );
+        assert_eq!(
+            flops(&full, SupernodalThreshold::FORCE_SIMPLICIAL),
+            (dense, false)
+        );
+        let tridiagonal = banded(n, 1);
+        let expected = 3.0 * (n - 1) as f64;
+        assert_eq!(
+            flops(&tridiagonal, SupernodalThreshold::FORCE_SIMPLICIAL),
+            (expected, false)
+        );
+    }
 
     /// The chunked product is the serial one to round-off, and the same bits in pools of
     /// one and three threads.

@@ -13,6 +13,7 @@ pub use dofs::{Dof, DofMap, DofMapBuilder};
 pub use golden::{GoldenSection, golden_search, golden_section};
 pub use model::{Body, Model, ModelBuilder};
 pub use newton::{
-    LoadStepping, NON_FINITE_RESIDUAL, Newton, NewtonSettings, NonlinearProblem, SolveHistory,
+    IterationTimes, LoadStepping, NON_FINITE_RESIDUAL, Newton, NewtonSettings, NonlinearProblem,
+    SolveHistory,
 };
 pub use scales::Scales;

@@ -99,6 +99,53 @@ pub trait NonlinearProblem: Send {
     fn release_caches_for_factorization(&mut self) {}
 }
 
+/// Wall time (s) of the parts of Newton iterations, summed over them (`tcgen bench`
+/// reports it per phase; `TCGEN_TRACE` prints it per iteration).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct IterationTimes {
+    /// The problem's preparation (the contact's projections, a new pattern's structure)
+    /// and the solver's selection for its pattern.
+    pub preparation: f64,
+    /// Residual assemblies.
+    pub residuals: f64,
+    /// Tangent assemblies (a new pattern's ordering and symbolic analysis run beside them).
+    pub tangents: f64,
+    /// Linear solves: GMRES on kept factors, numeric factorizations, triangular solves (and
+    /// the new analysis of a pattern whose kept factors went stale).
+    pub linear_solves: f64,
+    /// Of which numeric Cholesky and LDLᵀ factorizations (LU's are counted in
+    /// `linear_solves` only, faer not exposing their factors' size).
+    pub factorizations: f64,
+    /// Floating-point operations of those factorizations
+    /// ([`crate::solve::linear::cholesky_factor_flops`]): their rate compares machines and
+    /// days where seconds alone do not.
+    pub factorization_flops: f64,
+}
+
+impl IterationTimes {
+    /// Adds `other`'s times to these.
+    pub fn add(&mut self, other: &IterationTimes) {
+        self.preparation += other.preparation;
+        self.residuals += other.residuals;
+        self.tangents += other.tangents;
+        self.linear_solves += other.linear_solves;
+        self.factorizations += other.factorizations;
+        self.factorization_flops += other.factorization_flops;
+    }
+
+    /// These times less `earlier`'s (the part of a run after `earlier` was read).
+    pub fn since(&self, earlier: &IterationTimes) -> IterationTimes {
+        IterationTimes {
+            preparation: self.preparation - earlier.preparation,
+            residuals: self.residuals - earlier.residuals,
+            tangents: self.tangents - earlier.tangents,
+            linear_solves: self.linear_solves - earlier.linear_solves,
+            factorizations: self.factorizations - earlier.factorizations,
+            factorization_flops: self.factorization_flops - earlier.factorization_flops,
+        }
+    }
+}
+
 /// Settings of Newton's method (tolerances in the solver's scaled units).
 #[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -238,7 +285,9 @@ pub struct Newton {
     /// Newton increments solved by a numeric factorization, and by preconditioned GMRES.
     factorizations: usize,
     krylov_solves: usize,
-    /// GMRES iterations of those solves.
+    /// Wall time of the iterations' parts, and the factorizations' work.
+    times: IterationTimes,
+    /// GMRES iterations of the preconditioned solves.
     krylov_iterations: usize,
     /// Whether GMRES increments stop at the [`forcing_term`] (an inexact Newton method) or at
     /// [`KRYLOV_TOLERANCE`].
@@ -445,6 +494,7 @@ impl Newton {
             factor_bytes_releasing_caches: FACTOR_BYTES_RELEASING_CACHES,
             factorizations: 0,
             krylov_solves: 0,
+            times: IterationTimes::default(),
             krylov_iterations: 0,
             inexact: true,
             large_factor_precision: LARGE_FACTOR_PRECISION,
@@ -504,6 +554,12 @@ impl Newton {
     /// preconditioned by an earlier one.
     pub fn linear_solves(&self) -> (usize, usize) {
         (self.factorizations, self.krylov_solves)
+    }
+
+    /// Wall time of the iterations' parts so far, and the factorizations' work
+    /// (`tcgen bench`).
+    pub fn iteration_times(&self) -> IterationTimes {
+        self.times
     }
 
     /// Frees the kept solvers (their factors and workspaces): the next
@@ -656,7 +712,7 @@ impl Newton {
         if trace {
             eprintln!("  analysis: ordering {ordered:.2} s, symbolic {symbolic:.2} s");
             eprintln!(
-                "  analysis: {}, {} equations, {} entries, factor {:?} entries in {:?} precision ({} MB resident)",
+                "  analysis: {}, {} equations, {} entries, factor {:?} entries ({} flop) in {:?} precision ({} MB resident)",
                 match solver.kind() {
                     Factorization::Lu => "LU",
                     Factorization::Cholesky => "Cholesky",
@@ -665,6 +721,9 @@ impl Newton {
                 solver.n_eq(),
                 p.pattern().row_idx().len(),
                 solver.factor_nnz(),
+                solver
+                    .factor_flops()
+                    .map_or("n/a".into(), |f| format!("{f:.3e}")),
                 solver.precision(),
                 super::resources::process_memory("VmRSS:").unwrap_or(0) >> 20
             );
@@ -826,6 +885,8 @@ impl Newton {
                     .collect()
             });
             let converged = norms.iter().zip(targets.iter()).all(|(v, t)| v <= t);
+            self.times.preparation += prepared;
+            self.times.residuals += assembled - prepared;
             if converged {
                 return Ok((history, true));
             }
@@ -905,6 +966,7 @@ impl Newton {
                 p.assemble(Some(&mut values), &mut r)?;
             }
             let tangent = clock.elapsed().as_secs_f64();
+            self.times.tangents += tangent - assembled;
             let (front, last_krylov) = (&self.solvers[0].solver, self.solvers[0].last_krylov);
             let large = self.is_large(n, front);
             r.iter_mut().for_each(|v| *v = -*v);
@@ -940,9 +1002,14 @@ impl Newton {
                 if solver.factor_value_bytes() >= self.factor_bytes_releasing_caches {
                     p.release_caches_for_factorization();
                 }
+                let started = std::time::Instant::now();
                 solver
                     .factorize_owned(std::mem::take(&mut values))
                     .map_err(|e| linear_failure(it, e))?;
+                if let Some(flops) = solver.factor_flops() {
+                    self.times.factorizations += started.elapsed().as_secs_f64();
+                    self.times.factorization_flops += flops;
+                }
                 solver
                     .solve_in_place(&mut r)
                     .map_err(|e| linear_failure(it, e))?;
@@ -956,6 +1023,7 @@ impl Newton {
                 self.krylov_solves += 1;
                 self.krylov_iterations += krylov.unwrap_or(0);
             }
+            self.times.linear_solves += clock.elapsed().as_secs_f64() - tangent;
             if trace {
                 eprintln!(
                     "  step {step} it {it}: prepare {prepared:.2} s, residual {:.2} s, tangent {:.2} s, {} {:.2} s",
