@@ -125,24 +125,24 @@ pub struct IterationTimes {
 impl IterationTimes {
     /// Adds `other`'s times to these.
     pub fn add(&mut self, other: &IterationTimes) {
-        self.preparation += other.preparation;
-        self.residuals += other.residuals;
-        self.tangents += other.tangents;
-        self.linear_solves += other.linear_solves;
-        self.factorizations += other.factorizations;
-        self.factorization_flops += other.factorization_flops;
+        self.add_scaled(other, 1.0);
     }
 
     /// These times less `earlier`'s (the part of a run after `earlier` was read).
     pub fn since(&self, earlier: &IterationTimes) -> IterationTimes {
-        IterationTimes {
-            preparation: self.preparation - earlier.preparation,
-            residuals: self.residuals - earlier.residuals,
-            tangents: self.tangents - earlier.tangents,
-            linear_solves: self.linear_solves - earlier.linear_solves,
-            factorizations: self.factorizations - earlier.factorizations,
-            factorization_flops: self.factorization_flops - earlier.factorization_flops,
-        }
+        let mut part = *self;
+        part.add_scaled(earlier, -1.0);
+        part
+    }
+
+    /// Adds `scale` times `other`, field by field.
+    fn add_scaled(&mut self, other: &IterationTimes, scale: f64) {
+        self.preparation += scale * other.preparation;
+        self.residuals += scale * other.residuals;
+        self.tangents += scale * other.tangents;
+        self.linear_solves += scale * other.linear_solves;
+        self.factorizations += scale * other.factorizations;
+        self.factorization_flops += scale * other.factorization_flops;
     }
 }
 
@@ -285,10 +285,10 @@ pub struct Newton {
     /// Newton increments solved by a numeric factorization, and by preconditioned GMRES.
     factorizations: usize,
     krylov_solves: usize,
+    /// GMRES iterations of those solves.
+    krylov_iterations: usize,
     /// Wall time of the iterations' parts, and the factorizations' work.
     times: IterationTimes,
-    /// GMRES iterations of the preconditioned solves.
-    krylov_iterations: usize,
     /// Whether GMRES increments stop at the [`forcing_term`] (an inexact Newton method) or at
     /// [`KRYLOV_TOLERANCE`].
     inexact: bool,
@@ -494,8 +494,8 @@ impl Newton {
             factor_bytes_releasing_caches: FACTOR_BYTES_RELEASING_CACHES,
             factorizations: 0,
             krylov_solves: 0,
-            times: IterationTimes::default(),
             krylov_iterations: 0,
+            times: IterationTimes::default(),
             inexact: true,
             large_factor_precision: LARGE_FACTOR_PRECISION,
         }
