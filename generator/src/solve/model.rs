@@ -1674,6 +1674,20 @@ impl NonlinearProblem for Model {
         Ok(())
     }
 
+    /// The slave nodes in contact at the prepared state
+    /// (`ContactInterface::is_active`), hashed in order.
+    fn active_set(&self) -> Option<(usize, u64)> {
+        use std::hash::{Hash, Hasher};
+        let c = self.contact.as_ref()?;
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        let mut n = 0;
+        for i in (0..c.n_slave()).filter(|&i| c.is_active(i)) {
+            i.hash(&mut h);
+            n += 1;
+        }
+        Some((n, h.finish()))
+    }
+
     fn load_norms(&self) -> Vec<f64> {
         let mut s = [0.0; 4];
         for (v, &c) in self.external().iter().zip(&self.eq_class) {
