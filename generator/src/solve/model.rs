@@ -1675,7 +1675,8 @@ impl NonlinearProblem for Model {
     }
 
     /// The slave nodes in contact at the prepared state
-    /// (`ContactInterface::is_active`), hashed in order.
+    /// (`ContactInterface::is_active`; a periodic seam's copies counted with
+    /// their nodes), hashed in order.
     fn active_set(&self) -> Option<(usize, u64)> {
         use std::hash::{Hash, Hasher};
         let c = self.contact.as_ref()?;

@@ -99,9 +99,9 @@ pub trait NonlinearProblem: Send {
     fn release_caches_for_factorization(&mut self) {}
     /// The discrete part of the prepared state (the contact's active set): the nodes in it
     /// and a hash of which they are; `None` without one. `TCGEN_TRACE` prints it per
-    /// iterate: a state within the residual tolerance whose active set changed in its last
-    /// increment may still carry a wrong node or two, which moved the 3D egg box's
-    /// self-consistent jump at 11.5 kPa by 0.1 % (docs/3d.md, "Stop 96").
+    /// iterate. States within the residual tolerance may differ by a node or two at a
+    /// spot's edge, which moved the 3D egg box's self-consistent jump by 0.1–0.15 % at
+    /// 6.25 and 11.51 kPa (docs/3d.md, "Stop 96").
     fn active_set(&self) -> Option<(usize, u64)> {
         None
     }
