@@ -175,7 +175,7 @@ pub struct DiscretizationSection {
     pub elements_upper: ElementCounts,
     /// Elements of the lower body.
     pub elements_lower: ElementCounts,
-    /// Bulk Gauss points per direction (default `p + 2`).
+    /// Bulk Gauss points per direction (default `p + 2`; at least `p`, and 2).
     pub bulk_points: Option<usize>,
     /// Levels of local (THB) refinement towards the contact interface: the
     /// elements touching the rough surface are halved this many times, the mesh
@@ -829,13 +829,21 @@ impl Case {
                 ));
             }
         }
+        // Fewer Gauss points per direction than the degree (than 2 at p = 1)
+        // leave zero-energy (hourglass) modes in the bulk stiffness; `p` points,
+        // the reduced rule, keep only the rigid ones on these smooth splines
+        // (docs/3d.md, "Stop 97").
+        let least_points = d.degree.max(2);
         if let Some(n) = d.bulk_points
-            && !(1..=16).contains(&n)
+            && !(least_points..=16).contains(&n)
         {
             return Err(Error::invalid(
                 "discretization.bulk_points",
                 n,
-                "an integer in 1..=16",
+                format!(
+                    "an integer in {least_points}..=16 (at least the degree {}, and 2: fewer Gauss points leave zero-energy modes)",
+                    d.degree
+                ),
             ));
         }
         if d.interface_levels > MAX_LEVELS {

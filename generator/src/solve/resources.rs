@@ -187,7 +187,12 @@ pub fn memory_for(unknowns: usize, degree: usize, dim: usize, points: Quadrature
     };
     let fitted = QuadraturePoints::fitted(dim);
     let count = |n: usize, k: usize| n.pow(k as u32) as f64;
-    let points_term = per_bulk * (count(points.bulk, dim) - count(fitted.bulk, dim))
+    // Fewer bulk points than fitted save nothing: 2 × 2 × 2 instead of the
+    // fitted 3 × 3 × 3 lowered the peak of the benchmark egg box at 6.25 kPa
+    // (five levels) by 2 % only (2.64 → 2.59 GB; docs/3d.md, "Stop 97"), where
+    // the per-point share, measured before the quadrature stored less per
+    // point (stop 88), would take off 15 %.
+    let points_term = per_bulk * (count(points.bulk, dim) - count(fitted.bulk, dim)).max(0.0)
         + per_interface * (count(points.interface, dim - 1) - count(fitted.interface, dim - 1));
     // Fewer points than fitted save at most half (the factor stays).
     let c = (c + points_term).max(0.5 * c);

@@ -420,6 +420,10 @@ fn errors_name_the_key() {
         ("[material]\npoisson_ratio = 0.7\n", "poisson_ratio"),
         ("[load]\npressures = [-1.0]\n", "load.pressures"),
         ("[discretization]\ndegree = 0\n", "discretization.degree"),
+        (
+            "[discretization]\nbulk_points = 1\n",
+            "discretization.bulk_points",
+        ),
         ("[sample]\nwidth = -1.0\n", "sample.width"),
         (
             "[contact]\nthermal = \"constitutive\"\nconductance_coefficient = -1.0\npressure_exponent = 1.0\n",
@@ -433,6 +437,37 @@ fn errors_name_the_key() {
             .unwrap_err()
             .to_string();
         assert!(e.contains(key), "{key}: {e}");
+    }
+}
+
+/// The bulk rule has at least `p` Gauss points per direction, and 2 at p = 1:
+/// fewer leave zero-energy modes (docs/3d.md, "Stop 97"); the error says so.
+#[test]
+fn bulk_points_below_the_degree_are_refused() {
+    let case = |degree: usize, points: usize| {
+        Case::from_toml(
+            &format!("{MINIMAL}\n[discretization]\ndegree = {degree}\nbulk_points = {points}\n"),
+            Path::new("."),
+        )
+    };
+    for (degree, points) in [(1, 2), (2, 2), (3, 3), (2, 16)] {
+        assert!(
+            case(degree, points).is_ok(),
+            "p = {degree}, {points} points"
+        );
+    }
+    for (degree, points, range) in [
+        (1, 1, "2..=16"),
+        (2, 1, "2..=16"),
+        (3, 2, "3..=16"),
+        (2, 17, "2..=16"),
+    ] {
+        let e = case(degree, points).unwrap_err().to_string();
+        assert!(
+            e.contains("discretization.bulk_points") && e.contains(range),
+            "{e}"
+        );
+        assert!(e.contains("zero-energy modes"), "{e}");
     }
 }
 
