@@ -841,7 +841,7 @@ impl Case {
                 "discretization.bulk_points",
                 n,
                 format!(
-                    "an integer in {least_points}..=16 (at least the degree {}, and 2: fewer Gauss points leave zero-energy modes)",
+                    "an integer in {least_points}..=16 (fewer Gauss points per direction than max(p, 2), p = {} the degree, leave zero-energy modes in the bulk stiffness)",
                     d.degree
                 ),
             ));
