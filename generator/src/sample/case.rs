@@ -830,9 +830,10 @@ impl Case {
             }
         }
         // Fewer Gauss points per direction than the degree (than 2 at p = 1)
-        // leave zero-energy (hourglass) modes in the bulk stiffness; `p` points,
-        // the reduced rule, keep only the rigid ones on these smooth splines
-        // (docs/3d.md, "Stop 97").
+        // leave zero-energy (hourglass) modes in the bulk stiffness; `max(p, 2)`
+        // keep only the rigid ones on these smooth splines (measured at p = 1,
+        // 2, 3; test `the_least_accepted_rule_keeps_only_the_rigid_modes`,
+        // docs/3d.md, "Stop 97").
         let least_points = d.degree.max(2);
         if let Some(n) = d.bulk_points
             && !(least_points..=16).contains(&n)
