@@ -1504,9 +1504,10 @@ pub struct EggBoxAdaptive {
     /// Unknowns at most of a level (`--max-dofs`; `None`: the case's, the
     /// default 200 000).
     pub max_dofs: Option<usize>,
-    /// Mark the contact-edge elements' neighbours too (`--edge-neighbours`:
-    /// `[discretization] edge_neighbours = true`; the 3D default leaves them
-    /// out since stop 85).
+    /// Mark the contact-edge elements' neighbours on every level
+    /// (`--edge-neighbours`: `[discretization] edge_neighbours = true`; the
+    /// 3D default marks them on levels 1–2 only since stop 98, on none in
+    /// stops 85–97).
     pub edge_neighbours: bool,
 }
 
@@ -1586,7 +1587,8 @@ pub fn egg_box_case(mesh: EggBoxMesh) -> Result<crate::sample::Case> {
             case.discretization.target_error = Some(a.target);
             case.discretization.max_levels = a.max_levels;
             if a.edge_neighbours {
-                case.discretization.edge_neighbours = Some(true);
+                case.discretization.edge_neighbours =
+                    Some(crate::sample::case::EdgeNeighbours::Every(true));
             }
             if let Some(n) = a.max_dofs {
                 crate::sample::case::check_max_dofs("--max-dofs", n)?;
@@ -1817,8 +1819,8 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("--max-dofs") && e.contains("--fixed"), "{e}");
-        // The 3D default marks the edge elements alone; `--edge-neighbours`
-        // their neighbours too, and is refused with `--fixed`.
+        // The 3D default marks the edge elements' neighbours on levels 1–2;
+        // `--edge-neighbours` on every level, and is refused with `--fixed`.
         let with = EggBoxAdaptive {
             edge_neighbours: true,
             ..a
@@ -1828,13 +1830,23 @@ mod tests {
             e.contains("--edge-neighbours") && e.contains("--fixed"),
             "{e}"
         );
+        use crate::sample::case::EdgeNeighbours;
         let c = case_of(a).unwrap();
         assert_eq!(c.discretization.edge_neighbours, None);
-        assert!(!c.discretization.edge_neighbours_in(3));
+        assert_eq!(
+            c.discretization.edge_neighbours_in(3),
+            EdgeNeighbours::FirstLevels(2)
+        );
         let text = format_egg_box_bench(&c, Default::default(), &[]);
-        assert!(text.contains("without their neighbours"), "{text}");
+        assert!(
+            text.contains("elements, with their neighbours on levels 1–2"),
+            "{text}"
+        );
         let c = case_of(with).unwrap();
-        assert_eq!(c.discretization.edge_neighbours, Some(true));
+        assert_eq!(
+            c.discretization.edge_neighbours,
+            Some(EdgeNeighbours::Every(true))
+        );
         let text = format_egg_box_bench(&c, Default::default(), &[]);
         assert!(text.contains("elements and their neighbours"), "{text}");
         let c = egg_box_case(mesh(true, 1, a).unwrap()).unwrap();

@@ -173,8 +173,8 @@ enum Command {
         #[arg(long)]
         max_dofs: Option<usize>,
         /// The adaptive egg-box benchmark marking the contact-edge elements'
-        /// neighbours too (`[discretization] edge_neighbours = true`; the 3D
-        /// default leaves them out).
+        /// neighbours on every level (`[discretization] edge_neighbours =
+        /// true`; the 3D default marks them on levels 1–2 only).
         #[arg(long)]
         edge_neighbours: bool,
         /// The egg-box benchmark on the case's fixed mesh (refined `--levels`

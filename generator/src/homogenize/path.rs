@@ -799,7 +799,7 @@ impl<'a> PathSolver<'a> {
                     misfit.len()
                 );
             }
-            let neighbours = d.edge_neighbours_in(case.dimension());
+            let neighbours = d.edge_neighbours_in(case.dimension()).at(level);
             let mut marks = mark_contact_edges(src, slave, &misfit, neighbours)?;
             if let Some((rec, error)) = bulk.take()
                 && error > bulk_threshold

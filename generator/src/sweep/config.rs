@@ -388,14 +388,16 @@ fn resolved_case_table(case: &Case) -> Result<toml::Table> {
     case.contact.mechanical_penalty = Some(case.contact.mechanical_penalty.unwrap_or(1.0));
     // The thermal phase's contact zone: by dimension unless given.
     case.contact.thermal_zone = Some(case.contact.thermal_zone_in(case.dimension()));
-    // The contact-edge marks' neighbours: explicit unless marked by default,
-    // the only behaviour before the key existed (those tables keep the
-    // hashes they were built with; the 3D default at p ≥ 2 changed in stop
-    // 85, and those cases now write `false`).
+    // The contact-edge marks' neighbours: explicit unless marked on every
+    // level by default, the only behaviour before the key existed (those
+    // tables keep the hashes they were built with; the 3D default at p ≥ 2
+    // changed in stops 85 and 98, and those cases write `false` or the
+    // number of levels).
     let dim = case.dimension();
     let d = &mut case.discretization;
+    let every = crate::sample::case::EdgeNeighbours::Every(true);
     let neighbours = d.edge_neighbours_in(dim);
-    d.edge_neighbours = if neighbours && d.edge_neighbours_by_default(dim) {
+    d.edge_neighbours = if neighbours == every && d.edge_neighbours_by_default(dim) == every {
         None
     } else {
         Some(neighbours)

@@ -917,7 +917,7 @@ fn ridges_plane_strain() -> Result<Vec<Check>> {
         // too: the 2D default, not the 3D one since stop 85).
         c.discretization.target_error = Some(1e-9);
         c.discretization.max_levels = levels;
-        c.discretization.edge_neighbours = Some(true);
+        c.discretization.edge_neighbours = Some(crate::sample::case::EdgeNeighbours::Every(true));
         let out = solve_case(&c, None, |_| {})?;
         match out.iter().find(|r| !r.converged || r.levels != [levels; 2]) {
             Some(r) => Err(crate::Error::Config(format!(

@@ -15,7 +15,7 @@ use tcgen::homogenize::path::{
     level_error_ratio, two_level_estimate,
 };
 use tcgen::sample::Case;
-use tcgen::sample::case::Method;
+use tcgen::sample::case::{EdgeNeighbours, Method};
 use tcgen::sample::micro::{LOWER, UPPER, case_heights};
 use tcgen::solve::{Model, NonlinearProblem};
 
@@ -496,11 +496,12 @@ fn a_state_carried_over_in_3d_holds_its_prescribed_values() {
 /// elements without their neighbours: on the 3D egg box of
 /// `tables/egg_box_on_flat.toml` (4 × 4 × 2 / 3 × 3 × 2 at 30 kPa) a strict
 /// subset of the cells marked with them, on both bodies. The key is read
-/// from a case; absent, it is `true` in 2D and at p = 1, `false` in 3D at
-/// p ≥ 2 (since stop 85), and the resolved configuration (the tables'
-/// hash) writes it unless the neighbours are marked by default, so that
-/// the tables built before the key existed keep their hashes where their
-/// marks did not change.
+/// from a case (`true`, `false` or a number of levels); absent, it is
+/// `true` in 2D and at p = 1, the first 2 levels in 3D at p ≥ 2 (since stop
+/// 98; `false` in stops 85–97), and the resolved configuration (the tables'
+/// hash) writes it unless the neighbours are marked on every level by
+/// default, so that the tables built before the key existed keep their
+/// hashes where their marks did not change.
 #[test]
 fn marks_without_the_edge_neighbours_are_a_strict_subset() {
     use tcgen::sweep::config::resolved_case;
@@ -508,8 +509,14 @@ fn marks_without_the_edge_neighbours_are_a_strict_subset() {
     let mut s = PathSolver::new(&c).unwrap();
     s.solve_pressure(3.0e4).unwrap();
     assert_eq!(c.discretization.edge_neighbours, None);
-    assert!(!c.discretization.edge_neighbours_in(3));
-    assert!(c.discretization.edge_neighbours_in(2));
+    assert_eq!(
+        c.discretization.edge_neighbours_in(3),
+        EdgeNeighbours::FirstLevels(2)
+    );
+    assert_eq!(
+        c.discretization.edge_neighbours_in(2),
+        EdgeNeighbours::Every(true)
+    );
     s.model.prepare_contact().unwrap();
     let with = mark_contact_edges(&s.model, UPPER, &Default::default(), true).unwrap();
     let without = mark_contact_edges(&s.model, UPPER, &Default::default(), false).unwrap();
@@ -550,15 +557,21 @@ fn marks_without_the_edge_neighbours_are_a_strict_subset() {
             .map(str::to_string)
     };
     let (t, f) = ("edge_neighbours = true", "edge_neighbours = false");
+    let (two, three) = ("edge_neighbours = 2", "edge_neighbours = 3");
+    let (every, none) = (EdgeNeighbours::Every(true), EdgeNeighbours::Every(false));
+    let first = EdgeNeighbours::FirstLevels;
     for (key, dimension, degree, value, line) in [
-        ("", 3, 2, false, Some(f)),
-        (t, 3, 2, true, Some(t)),
-        ("", 3, 1, true, None),
-        (t, 3, 1, true, None),
-        (f, 3, 1, false, Some(f)),
-        ("", 2, 2, true, None),
-        (t, 2, 2, true, None),
-        (f, 2, 2, false, Some(f)),
+        ("", 3, 2, first(2), Some(two)),
+        (t, 3, 2, every, Some(t)),
+        (f, 3, 2, none, Some(f)),
+        (three, 3, 2, first(3), Some(three)),
+        ("", 3, 1, every, None),
+        (t, 3, 1, every, None),
+        (f, 3, 1, none, Some(f)),
+        (two, 3, 1, first(2), Some(two)),
+        ("", 2, 2, every, None),
+        (t, 2, 2, every, None),
+        (f, 2, 2, none, Some(f)),
     ] {
         let c = read(key, dimension, degree);
         assert_eq!(c.dimension(), dimension);
@@ -1172,6 +1185,36 @@ method = "two-phase"
         "the dent is not marked: {with:?}"
     );
     assert!(marked(0.0).is_empty());
+}
+
+/// The 3D default at p ≥ 2 marks the contact-edge elements' neighbours on
+/// the first two levels only (`EARLY_EDGE_NEIGHBOUR_LEVELS`): on the egg
+/// box of `coarse_adaptive_egg_box` at 30 kPa its first two levels are
+/// those of `edge_neighbours = true`, and its third has fewer unknowns than
+/// that rule's third and more than the third of `edge_neighbours = false`.
+#[test]
+fn the_3d_default_marks_the_edge_neighbours_on_the_first_two_levels() {
+    use tcgen::homogenize::solve_case_observed;
+    assert_eq!(tcgen::sample::case::EARLY_EDGE_NEIGHBOUR_LEVELS, 2);
+    let unknowns = |rule: Option<EdgeNeighbours>| -> Vec<usize> {
+        // A target below reach: every level up to `max_levels` is solved.
+        let mut c = coarse_adaptive_egg_box(vec![3.0e4], 1e-9, 3);
+        c.discretization.edge_neighbours = rule;
+        let (reports, observer) = level_recorder();
+        solve_case_observed(&c, None, |_| {}, Some(observer)).unwrap();
+        let reports = reports.lock().unwrap();
+        reports.iter().map(|r| r.dofs).collect()
+    };
+    let default = unknowns(None);
+    let every = unknowns(Some(EdgeNeighbours::Every(true)));
+    let none = unknowns(Some(EdgeNeighbours::Every(false)));
+    assert_eq!(default.len(), 3, "{default:?}");
+    assert_eq!(default[..2], every[..2], "{default:?} against {every:?}");
+    assert!(none[0] < default[0], "{none:?} against {default:?}");
+    assert!(
+        none[2] < default[2] && default[2] < every[2],
+        "{none:?}, {default:?}, {every:?}"
+    );
 }
 
 /// The egg box of `tables/egg_box_on_flat.toml` on `[4, 4, 2]` / `[3, 3,

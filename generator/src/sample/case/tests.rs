@@ -440,6 +440,37 @@ fn errors_name_the_key() {
     }
 }
 
+/// `[discretization] edge_neighbours` reads `true`, `false` or a number of
+/// levels: the marks that build levels 1 to `n` take the neighbours, the
+/// later ones do not; anything else is refused with the key named.
+#[test]
+fn edge_neighbours_read_a_number_of_levels() {
+    let read = |value: &str| {
+        Case::from_toml(
+            &format!("{MINIMAL}\n[discretization]\nedge_neighbours = {value}\n"),
+            Path::new("."),
+        )
+    };
+    let n = read("2").unwrap().discretization.edge_neighbours.unwrap();
+    assert_eq!(n, EdgeNeighbours::FirstLevels(2));
+    assert_eq!([1, 2, 3, 4].map(|l| n.at(l)), [true, true, false, false]);
+    let none = read("0").unwrap().discretization.edge_neighbours.unwrap();
+    assert!(!none.at(1));
+    assert_eq!(none.describe(), EdgeNeighbours::Every(false).describe());
+    let every = read("true")
+        .unwrap()
+        .discretization
+        .edge_neighbours
+        .unwrap();
+    assert_eq!(every, EdgeNeighbours::Every(true));
+    assert!(every.at(1) && every.at(12));
+    for bad in ["-1", "\"yes\"", "1.5"] {
+        let e = read(bad).unwrap_err().to_string();
+        assert!(e.contains("edge_neighbours"), "{bad}: {e}");
+        assert!(e.contains("a number of levels"), "{bad}: {e}");
+    }
+}
+
 /// The bulk rule has at least `p` Gauss points per direction, and 2 at p = 1:
 /// fewer leave zero-energy modes (docs/3d.md, "Stop 97"); the error says so.
 #[test]
