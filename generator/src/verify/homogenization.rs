@@ -914,7 +914,8 @@ fn ridges_plane_strain() -> Result<Vec<Check>> {
         let mut c = s.case()?;
         // A target below reach: exactly `levels` refinements; the same
         // marks in both dimensions (the contact-edge elements' neighbours
-        // too: the 2D default, not the 3D one since stop 85).
+        // on every level: the 2D default; the 3D one marks them on levels
+        // 1–2 only since stop 98).
         c.discretization.target_error = Some(1e-9);
         c.discretization.max_levels = levels;
         c.discretization.edge_neighbours = Some(crate::sample::case::EdgeNeighbours::Every(true));
