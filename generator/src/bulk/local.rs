@@ -99,7 +99,10 @@ pub fn element_residual_tangent(
 /// else the crate's baseline x86-64 or other target), chosen at run time: the crate is built
 /// for the baseline target so that one binary runs everywhere. The code is the same and Rust
 /// does not fuse `a * b + c` into FMAs, so every target gives the same bits (test
-/// `element_tangent_3d_matches_finite_differences_and_the_baseline_kernel`). A 3D p = 2
+/// `element_tangent_3d_matches_finite_differences_and_the_baseline_kernel`). The 3D
+/// mechanical block's product over the points ([`MechanicalProduct`]) is faer's, whose
+/// kernels faer chooses at run time (as for the factorizations): the same for every target
+/// on one CPU, possibly other last bits on another. A 3D p = 2
 /// mechanical element with 27 points: 59 against 71 µs (thermal 15 against 30 µs, also by
 /// its column-wise update; AMD EPYC, docs/3d.md "Stop 46").
 fn residual_tangent_widest<const D: usize>(
@@ -185,20 +188,38 @@ fn residual_tangent<const D: usize>(
     // Per quadrature point, columns of the tangent's factors (rows of the
     // element block; zero in the rows of other fields).
     let with_k = k.is_some();
-    let mut gcols = vec![0.0; if with_k && has_u { D * D * n } else { 0 }];
+    // The mechanical tangent is symmetric (hyperelastic, `∂P/∂F` has major
+    // symmetry): assemble the blocks above the diagonal and mirror them (in
+    // 3D as products over the points, [`MechanicalProduct`]).
+    let symmetric = coupling == Coupling::Mechanical;
+    let product = with_k && symmetric && D == 3;
+    let mut gcols = vec![
+        0.0;
+        if with_k && has_u && !product {
+            D * D * n
+        } else {
+            0
+        }
+    ];
     let mut gth = vec![0.0; if with_k && has_u && has_t { n } else { 0 }];
     // Per quadrature point, the thermal rows' factors by columns: −Σ_J N_a,J ∂q_J/∂θ, then
     // −Σ_J N_a,J ∂q_J/∂(∇θ)_L for each L.
     let mut tth = vec![0.0; if with_k && has_t { (1 + D) * ncp } else { 0 }];
-    // The mechanical tangent is symmetric (hyperelastic, `∂P/∂F` has major
-    // symmetry): assemble the blocks above the diagonal and mirror them.
-    let symmetric = coupling == Coupling::Mechanical;
     let before: Vec<f64> = match k.as_deref() {
-        Some(k) if symmetric => k.to_vec(),
+        Some(k) if symmetric && !product => k.to_vec(),
         _ => Vec::new(),
     };
     let mut scratch = Vec::new();
-    for (qp, nn, dn) in quad.points_with_basis(&mut scratch) {
+    let nq = quad.points.len();
+    // Kept per thread between elements (taken here, put back at the end).
+    let mut mp = if product {
+        let mut mp = MECHANICAL_PRODUCT.with_borrow_mut(std::mem::take);
+        mp.reset(n, ncp, nq);
+        mp
+    } else {
+        MechanicalProduct::default()
+    };
+    for (q, (qp, nn, dn)) in quad.points_with_basis(&mut scratch).enumerate() {
         let w = qp.weight;
         let f = deformation_gradient(D, fields.u, dn);
         let mut theta = 0.0;
@@ -244,9 +265,13 @@ fn residual_tangent<const D: usize>(
                                 }
                             }
                         }
-                        for kk in 0..D {
-                            for l in 0..D {
-                                gcols[(kk * D + l) * n + row] = s[3 * kk + l];
+                        if product {
+                            mp.set_factor(q, row, &s);
+                        } else {
+                            for kk in 0..D {
+                                for l in 0..D {
+                                    gcols[(kk * D + l) * n + row] = s[3 * kk + l];
+                                }
                             }
                         }
                         if has_t {
@@ -258,7 +283,10 @@ fn residual_tangent<const D: usize>(
                         }
                     }
                 }
-                for bb in 0..ncp {
+                if product {
+                    mp.set_gradients(q, w, dn);
+                }
+                for bb in (0..ncp).filter(|_| !product) {
                     // Symmetric: the blocks a ≤ b only (mirrored below).
                     let rows = if symmetric { (bb + 1) * nf } else { n };
                     for kk in 0..D {
@@ -343,8 +371,15 @@ fn residual_tangent<const D: usize>(
             }
         }
     }
+    if product {
+        if let Some(k) = k.as_deref_mut() {
+            mp.add_to(k);
+        }
+        MECHANICAL_PRODUCT.with_borrow_mut(|kept| *kept = mp);
+    }
     if let Some(k) = k
         && symmetric
+        && !product
     {
         for bb in 0..ncp {
             for a in 0..bb {
@@ -357,6 +392,119 @@ fn residual_tangent<const D: usize>(
             }
         }
     }
+}
+
+/// The 3D mechanical element tangent as a matrix product over the quadrature
+/// points: column `(b, k)` of the block is `Σ_(q, L) G_q[·, (k, L)] w_q N_b,L(x_q)`
+/// with `G_q[(a, i), (k, L)] = Σ_J N_a,J ∂P_iJ/∂F_kL` at point `q`, so the three
+/// column classes `k` are three products `(n × 3 n_q) (3 n_q × n_cp)` summed at
+/// once (faer's matrix product, with FMAs), instead of `n_q` rank-3 updates of
+/// the block's upper triangle each read and written through the cache. The
+/// products run by chunks of columns down to the chunk's last node (about
+/// two thirds of the whole block's multiplications), and the upper part is
+/// mirrored ([`Self::add_to`]); test
+/// `element_tangent_3d_matches_finite_differences_and_the_baseline_kernel`.
+/// The buffers are kept per thread between elements.
+#[derive(Default)]
+struct MechanicalProduct {
+    /// `G` for `k = 0, 1, 2`: each `n × 3 n_q`, column-major, column `3q + L`.
+    factors: Vec<f64>,
+    /// `3 n_q × n_cp`, column-major: row `3q + L`, column `b`, `w_q N_b,L`.
+    gradients: Vec<f64>,
+    /// The block's products (`n × n`, column-major; the entries at and above
+    /// the nodes' diagonal blocks are written before they are read).
+    block: Vec<f64>,
+    n: usize,
+    ncp: usize,
+    nq: usize,
+}
+
+impl MechanicalProduct {
+    /// Sizes the buffers for an element of `n` unknowns, `ncp` functions and
+    /// `nq` points (every entry is written before the product reads it).
+    fn reset(&mut self, n: usize, ncp: usize, nq: usize) {
+        (self.n, self.ncp, self.nq) = (n, ncp, nq);
+        self.factors.resize(3 * n * 3 * nq, 0.0);
+        self.gradients.resize(3 * nq * ncp, 0.0);
+    }
+
+    /// Row `row` of point `q`'s `G` (`s[3k + L]`).
+    #[inline(always)]
+    fn set_factor(&mut self, q: usize, row: usize, s: &[f64; 9]) {
+        let (n, nq) = (self.n, self.nq);
+        for k in 0..3 {
+            let g = &mut self.factors[k * n * 3 * nq..(k + 1) * n * 3 * nq];
+            for l in 0..3 {
+                g[(3 * q + l) * n + row] = s[3 * k + l];
+            }
+        }
+    }
+
+    /// Point `q`'s weighted gradients `w N_b,L`.
+    #[inline(always)]
+    fn set_gradients(&mut self, q: usize, w: f64, dn: &[[f64; 3]]) {
+        let m = 3 * self.nq;
+        for (b, d) in dn.iter().enumerate().take(self.ncp) {
+            for l in 0..3 {
+                self.gradients[b * m + 3 * q + l] = w * d[l];
+            }
+        }
+    }
+
+    /// Adds the block to `k` (`n × n`, column-major, columns `(b, k)` with
+    /// three fields per node): the columns of node `b` down to node `b`'s rows
+    /// (the products over chunks of [`PRODUCT_CHUNK_NODES`] columns' nodes,
+    /// each down to its last node's rows), then the upper part mirrored, so
+    /// that the block is symmetric to the bit off its nodes' diagonal blocks,
+    /// as the rank-3 updates made it. With both triangles from the products
+    /// (equal only to rounding) the 3D Hertz radius differed in its last bits
+    /// between one thread and two (test
+    /// `the_3d_area_is_the_same_on_any_number_of_threads`).
+    fn add_to(&mut self, k: &mut [f64]) {
+        use faer::{Accum, MatMut, MatRef, Par};
+        let (n, ncp, m) = (self.n, self.ncp, 3 * self.nq);
+        self.block.resize(n * n, 0.0);
+        let block = &mut self.block;
+        for b0 in (0..ncp).step_by(PRODUCT_CHUNK_NODES) {
+            let b1 = (b0 + PRODUCT_CHUNK_NODES).min(ncp);
+            let rows = 3 * b1;
+            let rhs = MatRef::from_column_major_slice(&self.gradients[b0 * m..b1 * m], m, b1 - b0);
+            for kk in 0..3 {
+                let g = &self.factors[kk * n * m..(kk + 1) * n * m];
+                let lhs = MatRef::from_column_major_slice_with_stride(g, rows, m, n);
+                let dst = MatMut::from_column_major_slice_with_stride_mut(
+                    &mut block[(3 * b0 + kk) * n..],
+                    rows,
+                    b1 - b0,
+                    3 * n,
+                );
+                faer::linalg::matmul::matmul(dst, Accum::Replace, lhs, rhs, 1.0, Par::Seq);
+            }
+        }
+        for b in 0..ncp {
+            for kk in 0..3 {
+                let col = 3 * b + kk;
+                for row in 0..3 * (b + 1) {
+                    let v = block[row + n * col];
+                    k[row + n * col] += v;
+                    if row < 3 * b {
+                        k[col + n * row] += v;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Nodes per chunk of columns in [`MechanicalProduct::add_to`]: a chunk's
+/// product runs down to its last node's rows, so smaller chunks compute less
+/// of the block below its diagonal, in more calls.
+const PRODUCT_CHUNK_NODES: usize = 8;
+
+thread_local! {
+    /// The buffers of [`MechanicalProduct`], one per thread.
+    static MECHANICAL_PRODUCT: std::cell::RefCell<MechanicalProduct> =
+        std::cell::RefCell::new(MechanicalProduct::default());
 }
 
 /// `col[a] += w (c[0] · dth[a] + Σ_l c[1 + l] · dg[l·ncp + a])` over the rows of `col`
@@ -518,6 +666,11 @@ mod tests {
             })
             .collect();
         let mut th: Vec<f64> = (0..ncp).map(|a| 1.0 + 0.05 * (x(a)[0] - x(a)[2])).collect();
+        // The coupled tangent's displacement block, which the coupled kernel
+        // computes entry by entry (all rows of every column): the mechanical
+        // tangent (products over the points, `MechanicalProduct`) equals it
+        // to rounding.
+        let mut coupled_uu = Vec::new();
         for coupling in [Coupling::Coupled, Coupling::Mechanical, Coupling::Thermal] {
             let nf = coupling.fields_per_node(3);
             let n = ncp * nf;
@@ -543,6 +696,26 @@ mod tests {
             let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
             assert_eq!(bits(&k), bits(&k0), "{coupling:?}: tangent bits");
             assert_eq!(bits(&r), bits(&r0), "{coupling:?}: residual bits");
+            let uu = |k: &[f64], nf: usize| -> Vec<f64> {
+                let idx = |a: usize, i: usize| a * nf + i;
+                let mut out = Vec::new();
+                for (b, kk) in (0..ncp).flat_map(|b| (0..3).map(move |kk| (b, kk))) {
+                    for (a, i) in (0..ncp).flat_map(|a| (0..3).map(move |i| (a, i))) {
+                        out.push(k[idx(a, i) + ncp * nf * idx(b, kk)]);
+                    }
+                }
+                out
+            };
+            match coupling {
+                Coupling::Coupled => coupled_uu = uu(&k, nf),
+                Coupling::Mechanical => {
+                    let scale = coupled_uu.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+                    for (x, y) in uu(&k, nf).iter().zip(&coupled_uu) {
+                        assert!((x - y).abs() <= 1e-13 * scale, "{x} against {y}");
+                    }
+                }
+                Coupling::Thermal => {}
+            }
             assert_tangent_matches_differences(coupling, 3, &k, &mut u, &mut th, |u, th| {
                 eval(u, th, None)
             });

@@ -12,8 +12,8 @@ use crate::geometry::Side;
 use crate::homogenize::abp::{AbpProperties, AbpTemperatures, accompanying_bar};
 use crate::homogenize::adapt::{
     BULK_TARGET_SHARE, bulk_approach_error, bulk_indicator_applies, bulk_marks,
-    keep_transferred_configuration, mark_contact_edges, refine_bodies, surface_misfit_marks,
-    transfer_state, write_two_level_system,
+    keep_transferred_configuration, level_census, mark_contact_edges, refine_bodies,
+    surface_misfit_marks, transfer_state, write_two_level_system,
 };
 use crate::homogenize::recovery::{RecoveredErrors, recovered_errors};
 use crate::material::Material;
@@ -810,6 +810,20 @@ impl<'a> PathSolver<'a> {
             let bodies = refine_bodies(src_bodies, &marks);
             // Resolving the faces keeps the control points.
             let dofs = (src.dim + 1) * bodies.n_control_points();
+            if trace {
+                let normal = src.dim - 1;
+                for (name, patch, side) in [
+                    ("upper", &bodies.upper, Side::Low),
+                    ("lower", &bodies.lower, Side::High),
+                ] {
+                    let census = level_census(patch, normal, side);
+                    let all: Vec<usize> = census.iter().map(|c| c[0]).collect();
+                    let deep: Vec<usize> = census.iter().map(|c| c[1]).collect();
+                    eprintln!(
+                        "adapt {pressure:e} Pa: level {level}: {name} body's elements by cell level {all:?}, of which below their level's first two layers {deep:?}"
+                    );
+                }
+            }
             if dofs > d.max_dofs {
                 if trace {
                     eprintln!(
