@@ -218,7 +218,7 @@ pub fn mark_contact_edges(
     for (body, face, set) in [(slave, sface, slave_set), (master, mface, master_set)] {
         let patch = &model.bodies[body].patch;
         let normal = patch.param_dim() - 1;
-        let side = if body == UPPER { Side::Low } else { Side::High };
+        let side = contact_face_side(body);
         let cells = marks.of(body);
         for e in set {
             let c = patch.face_volume_cell(face.elements()[e].cell, normal, side);
@@ -404,6 +404,13 @@ pub fn surface_misfit_marks(
         })
         .map(|(e, _, _)| e)
         .collect())
+}
+
+/// The end of the height direction at which body `body` ([`LOWER`] or
+/// [`UPPER`]) meets the contact interface: the upper body's low end, the
+/// lower body's high end.
+pub fn contact_face_side(body: usize) -> Side {
+    if body == UPPER { Side::Low } else { Side::High }
 }
 
 /// A refined body's elements by cell level: per level, the elements and

@@ -11,7 +11,7 @@ use crate::bulk::Coupling;
 use crate::geometry::Side;
 use crate::homogenize::abp::{AbpProperties, AbpTemperatures, accompanying_bar};
 use crate::homogenize::adapt::{
-    BULK_TARGET_SHARE, bulk_approach_error, bulk_indicator_applies, bulk_marks,
+    BULK_TARGET_SHARE, bulk_approach_error, bulk_indicator_applies, bulk_marks, contact_face_side,
     keep_transferred_configuration, level_census, mark_contact_edges, refine_bodies,
     surface_misfit_marks, transfer_state, write_two_level_system,
 };
@@ -812,11 +812,8 @@ impl<'a> PathSolver<'a> {
             let dofs = (src.dim + 1) * bodies.n_control_points();
             if trace {
                 let normal = src.dim - 1;
-                for (name, patch, side) in [
-                    ("upper", &bodies.upper, Side::Low),
-                    ("lower", &bodies.lower, Side::High),
-                ] {
-                    let census = level_census(patch, normal, side);
+                for (name, body) in [("upper", UPPER), ("lower", LOWER)] {
+                    let census = level_census(bodies.get(body), normal, contact_face_side(body));
                     let all: Vec<usize> = census.iter().map(|c| c[0]).collect();
                     let deep: Vec<usize> = census.iter().map(|c| c[1]).collect();
                     eprintln!(
