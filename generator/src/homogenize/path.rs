@@ -171,8 +171,10 @@ pub struct PathSolver<'a> {
     history: Vec<f64>,
     /// Per flux of the last self-consistent solve on an adaptive level, the
     /// bound (K) on its output's distance to the fixed point where its
-    /// iterations ended at a step of `F` across it ([`Secant::step_bound`]).
-    step_bounds: Vec<Option<f64>>,
+    /// iterations ended: the distance reached ([`fixed_point_output_error`],
+    /// or the last change where `F`'s slope is not known yet), or at a step
+    /// of `F` across it, the step's ([`Secant::step_bound`]).
+    fixed_point_bounds: Vec<Option<f64>>,
     /// The secant slope `F'` of the last self-consistency iterations (a first
     /// guess of the next pressure's: [`Secant`]).
     self_consistency_slope: Option<f64>,
@@ -331,7 +333,7 @@ impl<'a> PathSolver<'a> {
             history: Vec::new(),
             self_consistency_slope: None,
             extrapolated_starts: true,
-            step_bounds: Vec::new(),
+            fixed_point_bounds: Vec::new(),
             plain_phase: None,
             phase_cost: Default::default(),
             level_observer: None,
@@ -621,10 +623,11 @@ impl<'a> PathSolver<'a> {
     /// The self-consistency iterations on an adaptive level after its plain
     /// solve (`plain`, whose jumps' estimate is `estimate`), and the
     /// self-consistent jumps' estimate: the plain one scaled by the ratio of
-    /// the jumps, plus the bound on the fixed point's residual at which the
-    /// iterations stopped (the case's tolerance, the share
-    /// [`SELF_CONSISTENCY_ESTIMATE_SHARE`] of the estimate, or at a step of
-    /// `F`, the step's).
+    /// the jumps, plus the bound on the output's distance to the fixed point
+    /// where the iterations stopped (the distance they reached, at least the
+    /// case's tolerance; at a step of `F`, the step's). They stop once that
+    /// distance or their change is below the share
+    /// [`SELF_CONSISTENCY_ESTIMATE_SHARE`] of the estimate.
     fn self_consistent_level(
         &mut self,
         pressure: f64,
@@ -638,9 +641,15 @@ impl<'a> PathSolver<'a> {
             let mut e = e.to_vec();
             for (i, (r, p)) in solved.iter().zip(plain).enumerate() {
                 if p.jump != 0.0 && r.converged {
-                    let residual = (tolerance * r.jump.abs())
-                        .max(SELF_CONSISTENCY_ESTIMATE_SHARE * e[i])
-                        .max(self.step_bounds.get(i).copied().flatten().unwrap_or(0.0));
+                    // Where no bound was recorded, the share at which the
+                    // iterations stop.
+                    let reached = self
+                        .fixed_point_bounds
+                        .get(i)
+                        .copied()
+                        .flatten()
+                        .unwrap_or(SELF_CONSISTENCY_ESTIMATE_SHARE * e[i]);
+                    let residual = (tolerance * r.jump.abs()).max(reached);
                     e[i] = e[i] * (r.jump / p.jump).abs() + residual;
                 }
             }
@@ -1199,7 +1208,7 @@ impl<'a> PathSolver<'a> {
         let base = self.model.save();
         let mut out = Vec::with_capacity(fluxes.len());
         self.fields = None;
-        self.step_bounds = vec![None; fluxes.len()];
+        self.fixed_point_bounds = vec![None; fluxes.len()];
         for (i, &flux) in fluxes.iter().enumerate() {
             let scale = |t: f64| theta_c + flux * (t - theta_c);
             let estimate_floor = estimates.map_or(0.0, |e| SELF_CONSISTENCY_ESTIMATE_SHARE * e[i]);
@@ -1350,6 +1359,10 @@ impl<'a> PathSolver<'a> {
                                         }
                                     }
                                 }
+                                // The output's distance to the fixed point
+                                // reached, added to an adaptive level's
+                                // estimate.
+                                self.fixed_point_bounds[i] = Some(output_error.unwrap_or(change));
                                 converged = true;
                                 break;
                             }
@@ -1372,7 +1385,7 @@ impl<'a> PathSolver<'a> {
                                     );
                                 }
                                 if estimates.is_some() {
-                                    self.step_bounds[i] = Some(bound);
+                                    self.fixed_point_bounds[i] = Some(bound);
                                     converged = true;
                                     break;
                                 }
