@@ -656,8 +656,6 @@ mod tests {
         Cell { level, index }
     }
 
-    /// Columns reach 3/4 of the widest tangential extent, from either side,
-    /// bounded by the patch, and keep their length on the next level.
     #[test]
     fn the_level_census_counts_every_element_and_the_grading_below_the_face_layers() {
         // A p = 2 block of 4 × 4 × 4 cells refined twice at its top face
@@ -692,6 +690,8 @@ mod tests {
         assert!(low[2][1] > 0);
     }
 
+    /// Columns reach 3/4 of the widest tangential extent, from either side,
+    /// bounded by the patch, and keep their length on the next level.
     #[test]
     fn a_column_is_as_deep_as_its_face_cell_is_wide() {
         // 2D, 4 × 16 cells on the unit square: 0.25 wide, 0.0625 tall.
