@@ -1681,6 +1681,7 @@ pub fn format_egg_box_bench(
         ),
         None => format!("fixed mesh, interface_levels = {}", d.interface_levels),
     };
+    let mesh = format!("{mesh}{}", d.refinement.clause());
     let mut s = String::new();
     let _ = writeln!(
         s,

@@ -190,7 +190,20 @@ enum Command {
         /// Interface refinement levels of the 3D egg-box benchmark with `--fixed`.
         #[arg(long, default_value_t = 0)]
         levels: usize,
+        /// Which directions the egg-box benchmark's refinement levels halve
+        /// (`[discretization] refinement`).
+        #[arg(long, value_enum, default_value = "dyadic")]
+        refinement: RefinementArg,
     },
+}
+
+/// `[discretization] refinement` on the command line.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum RefinementArg {
+    /// Every level halves every direction.
+    Dyadic,
+    /// The lateral directions, then the one through the height, in turn.
+    Alternating,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -760,9 +773,10 @@ fn check(file: &std::path::Path, threads: Option<usize>) -> ExitCode {
     );
     if d.target_error.is_some() {
         println!(
-            "# adaptive (target_error {}), marking {}: meshes grow up to max_dofs = {} unknowns, about {} per solve at that size; Newton's relative tolerance {:.0e} (at least {:.0e} · target_error)",
+            "# adaptive (target_error {}), marking {}{}: meshes grow up to max_dofs = {} unknowns, about {} per solve at that size; Newton's relative tolerance {:.0e} (at least {:.0e} · target_error)",
             d.target_error.unwrap_or_default(),
             d.edge_marks_in(dim),
+            d.refinement.clause(),
             d.max_dofs,
             format_bytes(resources::memory_for(
                 d.max_dofs,
@@ -1195,6 +1209,7 @@ fn main() -> ExitCode {
             max_dofs,
             edge_neighbours,
             fixed,
+            refinement,
         } => {
             let run = || -> tcgen::Result<()> {
                 if only == Some(BenchPart::EggBox) {
@@ -1205,7 +1220,13 @@ fn main() -> ExitCode {
                         edge_neighbours,
                     };
                     let mesh = tcgen::bench::EggBoxMesh::from_options(fixed, levels, adaptive)?;
-                    let case = tcgen::bench::egg_box_case(mesh)?;
+                    let mut case = tcgen::bench::egg_box_case(mesh)?;
+                    case.discretization.refinement = match refinement {
+                        RefinementArg::Dyadic => tcgen::sample::case::RefinementPattern::Dyadic,
+                        RefinementArg::Alternating => {
+                            tcgen::sample::case::RefinementPattern::Alternating
+                        }
+                    };
                     let (phases, rows) = tcgen::bench::egg_box_bench(&case)?;
                     print!(
                         "{}",

@@ -170,14 +170,16 @@ pub fn mark_contact_edges(
         .collect();
     // The level the edge elements reach with this refinement, and the one
     // the contact's interior keeps up to ([`INTERIOR_LEVEL_RATIO`]).
+    let cycle = sface.mesh().cycle();
     let next_level = sface
         .elements()
         .iter()
         .map(|e| e.cell.level)
         .max()
         .unwrap_or(0)
+        .div_ceil(cycle)
         + 1;
-    let interior_level = next_level / INTERIOR_LEVEL_RATIO;
+    let interior_level = next_level / INTERIOR_LEVEL_RATIO * cycle;
     let edges: BTreeSet<usize> = sface
         .elements()
         .iter()

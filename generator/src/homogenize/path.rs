@@ -519,7 +519,7 @@ impl<'a> PathSolver<'a> {
                     .iter()
                     .map(|b| b.patch.n_control_points())
                     .sum::<usize>(),
-            levels: [LOWER, UPPER].map(|b| self.model.bodies[b].patch.mesh().n_levels() - 1),
+            levels: [LOWER, UPPER].map(|b| self.model.bodies[b].patch.mesh().depth()),
             converged: true,
             status: Status::Converged,
         }

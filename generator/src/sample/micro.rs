@@ -12,11 +12,13 @@ use crate::bulk::Coupling;
 use crate::contact::mortar::ContactInterface;
 use crate::geometry::fit::{ArealFit, fit_height_map, resolve_rough_face, try_rough_volume};
 use crate::geometry::{
-    FitMethod, NurbsPatch, RoughFace, Side, SurfaceFit, ThbPatch, fit_height_function,
-    try_rough_block,
+    FitMethod, HierarchicalMesh, NurbsPatch, RoughFace, Side, SurfaceFit, ThbPatch,
+    fit_height_function, try_rough_block,
 };
 use crate::material::Material;
-use crate::sample::case::{Case, ElementCounts, LateralCondition, MasterBody, TopLateral};
+use crate::sample::case::{
+    Case, ElementCounts, LateralCondition, MasterBody, RefinementPattern, TopLateral,
+};
 use crate::solve::{Model, ModelBuilder, NonlinearProblem, Scales, golden_search};
 use crate::surface::Surface;
 use crate::surface::areal::ArealSurface;
@@ -256,7 +258,7 @@ impl Bodies {
 
     /// The finest refinement level of each body, `[lower, upper]`.
     pub fn levels(&self) -> [usize; 2] {
-        [&self.lower, &self.upper].map(|b| b.mesh().n_levels() - 1)
+        [&self.lower, &self.upper].map(|b| b.mesh().depth())
     }
 }
 
@@ -342,8 +344,20 @@ pub fn case_bodies(case: &Case, geo: &SampleGeometry) -> Result<Bodies> {
     )?;
     let periodic = case.sample.lateral == LateralCondition::Periodic;
     Ok(Bodies {
-        lower: interface_refined(&lower_patch, Side::High, d.interface_levels, periodic),
-        upper: interface_refined(&upper_patch, Side::Low, d.interface_levels, periodic),
+        lower: interface_refined(
+            &lower_patch,
+            Side::High,
+            d.interface_levels,
+            periodic,
+            d.refinement,
+        ),
+        upper: interface_refined(
+            &upper_patch,
+            Side::Low,
+            d.interface_levels,
+            periodic,
+            d.refinement,
+        ),
     })
 }
 
@@ -468,17 +482,25 @@ pub fn build_model_on(
 }
 
 /// The THB patch of a body refined `levels` times at its rough face (`side` of
-/// the direction through the height), the mesh graded through the height.
-/// Periodic (PR) bodies keep their lateral cell layers alike, so that their
-/// periodic ties pair the two faces' functions one to one.
+/// the direction through the height), the mesh graded through the height;
+/// its levels halve the directions as `refinement` says. Periodic (PR) bodies
+/// keep their lateral cell layers alike, so that their periodic ties pair the
+/// two faces' functions one to one.
 pub fn interface_refined(
     patch: &NurbsPatch,
     side: Side,
     levels: usize,
     periodic: bool,
+    refinement: RefinementPattern,
 ) -> ThbPatch {
     let normal = patch.param_dim() - 1;
     let mut thb = ThbPatch::from_nurbs(patch);
+    if refinement == RefinementPattern::Alternating {
+        thb = thb.with_mesh(HierarchicalMesh::with_pattern(
+            patch.knots().to_vec(),
+            HierarchicalMesh::alternating_pattern(patch.param_dim(), normal),
+        ));
+    }
     if periodic {
         for d in 0..normal {
             thb = thb.periodic(d);

@@ -96,7 +96,7 @@ impl ThbBasis {
                     .into_iter()
                     .filter(|c| c.level == l - 1)
                 {
-                    for c in parent.children(dim) {
+                    for c in mesh.children(parent) {
                         let s = mesh.spans(c);
                         let p1 = degrees.map(|p| p + 1);
                         for j in 0..p1[0] * p1[1] * p1[2] {
@@ -224,7 +224,8 @@ impl<'a> Builder<'a> {
         let p = self.degrees[d];
         self.two_scale.entry((l, d, child)).or_insert_with(|| {
             let (coarse, fine) = (mesh.level(l), mesh.level(l + 1));
-            let (s0, s1) = (coarse.span(d, child / 2), fine.span(d, child));
+            let parent = if mesh.halved(l)[d] { child / 2 } else { child };
+            let (s0, s1) = (coarse.span(d, parent), fine.span(d, child));
             let (a, b) = fine.bounds(d, child);
             let n = p + 1;
             let mut bc = DMatrix::zeros(n, n);
@@ -308,7 +309,7 @@ impl<'a> Builder<'a> {
         }
         let mut rows: Vec<(usize, Vec<f64>)> = Vec::new();
         for k in 0..=cell.level {
-            let ck = cell.ancestor(k);
+            let ck = mesh.ancestor(cell, k);
             let sk = mesh.spans(ck);
             if k > 0 {
                 for (_, v) in rows.iter_mut() {
@@ -379,7 +380,7 @@ fn fine_function(
     let c = found.expect("an active function has an active cell of its level in its support");
     let (q, element) = (0..=l)
         .find_map(|k| {
-            let q = c.ancestor(k);
+            let q = to_mesh.ancestor(c, k);
             from.element_of(q).map(|e| (q, e))
         })
         .expect("the coarse mesh covers the domain");
@@ -436,7 +437,7 @@ pub fn prolongate(
                 }
             }
             for k in ff.q.level + 1..=ff.c.level {
-                b.subdivide(ff.c.ancestor(k), &mut v);
+                b.subdivide(to_mesh.ancestor(ff.c, k), &mut v);
             }
             out[a * n_comp + comp] = v[ff.local];
         }
@@ -465,7 +466,7 @@ pub fn prolongation_entries(
                 Some(x) => v.copy_from_slice(&x[r * n_local..(r + 1) * n_local]),
             }
             for k in ff.q.level + 1..=ff.c.level {
-                b.subdivide(ff.c.ancestor(k), &mut v);
+                b.subdivide(to_mesh.ancestor(ff.c, k), &mut v);
             }
             if v[ff.local] != 0.0 {
                 out.push((a, g, v[ff.local]));

@@ -1,20 +1,26 @@
-//! Hierarchical meshes: nested dyadic refinements `Ω^0 ⊇ Ω^1 ⊇ …` of the
-//! parameter domain of a tensor-product patch (1 to 3 directions).
+//! Hierarchical meshes: nested refinements `Ω^0 ⊇ Ω^1 ⊇ …` of the parameter
+//! domain of a tensor-product patch (1 to 3 directions).
 //!
 //! Level 0 is the patch's own mesh; level `ℓ + 1` halves every element of level
-//! `ℓ` in every direction (its knot vectors get the mid-point of every
-//! non-empty span). A *cell* is an element of one level, named by its element
-//! ordinal in each direction (the `i`-th non-empty span), so the children of
-//! ordinal `e` are `2e` and `2e + 1`. `Ω^ℓ` (`ℓ ≥ 1`) is the union of the
-//! children of the *refined* cells of level `ℓ − 1`; the active cells (the
-//! elements of the hierarchical mesh) are the cells of `Ω^ℓ` that are not
-//! refined.
+//! `ℓ` in the directions that the mesh's *pattern* names for `ℓ` (its knot
+//! vectors get the mid-point of every non-empty span there): every direction
+//! at every level by default (dyadic), or e.g. the tangential directions and
+//! then the normal one in turn, which grades a region refined to every other
+//! level in the tangential directions only. Every level is a tensor-product
+//! space containing the one before, which is all that THB needs. A *cell* is an
+//! element of one level, named by its element ordinal in each direction (the
+//! `i`-th non-empty span), so the children of ordinal `e` in a halved direction
+//! are `2e` and `2e + 1`. `Ω^ℓ` (`ℓ ≥ 1`) is the union of the children of the
+//! *refined* cells of level `ℓ − 1`; the active cells (the elements of the
+//! hierarchical mesh) are the cells of `Ω^ℓ` that are not refined.
 //!
 //! Refinement keeps the mesh *admissible of class 2* (Buffa & Giannelli 2016,
-//! Bracco et al. 2019, "refine_recursive"): before a cell `Q` of level `ℓ` is
-//! refined, every active cell of level `ℓ − 1` that meets the support
-//! extension of `Q` is refined, so that the truncated basis functions of at
-//! most two consecutive levels are nonzero on any element. Directions declared
+//! Bracco et al. 2019, "refine_recursive"), counted in cycles of the pattern:
+//! before a cell `Q` of level `ℓ` is refined, every cell of level `ℓ − P` (`P`
+//! the pattern's length, 1 when dyadic) that meets the support extension of
+//! `Q` is refined, so that the functions on any element come from one cycle of
+//! levels and the one before it: their sizes differ by at most a factor of 2
+//! in each direction, as in the dyadic mesh. Directions declared
 //! *periodic* keep the first and last layer of cells mirror images of each
 //! other, so that the traces of the basis on the two opposite faces coincide
 //! (periodic ties of the PR conditions (2.3) pair them one to one).
@@ -30,36 +36,6 @@ pub struct Cell {
     pub level: usize,
     /// Element ordinal (the `i`-th non-empty knot span of the level) per direction.
     pub index: [u32; 3],
-}
-
-impl Cell {
-    /// The cell of level `level ≤ self.level` that contains this one.
-    #[track_caller]
-    pub fn ancestor(&self, level: usize) -> Cell {
-        assert!(
-            level <= self.level,
-            "Cell::ancestor: level {level} is finer"
-        );
-        let s = self.level - level;
-        Cell {
-            level,
-            index: self.index.map(|i| i >> s),
-        }
-    }
-
-    /// The `2^dim` children, first direction fastest.
-    pub fn children(&self, dim: usize) -> impl Iterator<Item = Cell> + '_ {
-        (0..1u32 << dim).map(move |c| {
-            let mut index = self.index;
-            for (d, i) in index.iter_mut().enumerate().take(dim) {
-                *i = 2 * *i + ((c >> d) & 1);
-            }
-            Cell {
-                level: self.level + 1,
-                index,
-            }
-        })
-    }
 }
 
 /// One level of the hierarchy: its knot vectors and index maps.
@@ -99,12 +75,17 @@ impl Level {
         }
     }
 
-    /// The next level: the mid-point of every non-empty span inserted.
-    fn refined(&self) -> Level {
+    /// The next level: the mid-point of every non-empty span inserted in the
+    /// directions `halved` marks (the others keep their knots).
+    fn refined(&self, halved: [bool; 3]) -> Level {
         let knots = self
             .knots
             .iter()
-            .map(|kv| {
+            .zip(halved)
+            .map(|(kv, halve)| {
+                if !halve {
+                    return kv.clone();
+                }
                 let mut k = kv.knots().to_vec();
                 for w in kv.knots().windows(2) {
                     if w[0] < w[1] {
@@ -154,22 +135,112 @@ pub struct HierarchicalMesh {
     /// `refined[ℓ]`: the cells of level `ℓ` whose children belong to `Ω^{ℓ+1}`.
     refined: Vec<HashSet<[u32; 3]>>,
     periodic: [bool; 3],
+    /// The directions halved from level `ℓ` to `ℓ + 1` are `pattern[ℓ % pattern.len()]`
+    /// (dyadic: every direction at every level).
+    pattern: Vec<[bool; 3]>,
 }
 
 impl HierarchicalMesh {
-    /// The mesh of one level: the knot vectors' own elements.
+    /// The mesh of one level: the knot vectors' own elements, refined dyadically
+    /// (every direction halved at every level).
     #[track_caller]
     pub fn new(knots: Vec<KnotVector>) -> Self {
+        let dim = knots.len();
+        Self::with_pattern(knots, vec![[0, 1, 2].map(|d| d < dim)])
+    }
+
+    /// The mesh of one level whose level `ℓ + 1` halves the directions
+    /// `pattern[ℓ % pattern.len()]` of level `ℓ` (e.g. `[[true, true, false],
+    /// [false, false, true]]`: the tangential directions, then the normal one,
+    /// so that a region refined to every other level only is graded tangentially).
+    /// The levels stay nested tensor-product spaces, which is all that THB needs.
+    /// A mask that halves no direction repeats a level (the face traces of
+    /// normal-only levels).
+    #[track_caller]
+    pub fn with_pattern(knots: Vec<KnotVector>, pattern: Vec<[bool; 3]>) -> Self {
+        let dim = knots.len();
         assert!(
-            (1..=3).contains(&knots.len()),
+            (1..=3).contains(&dim),
             "HierarchicalMesh: 1 to 3 directions"
         );
+        assert!(
+            !pattern.is_empty() && pattern.iter().all(|m| m[dim..].iter().all(|&h| !h)),
+            "HierarchicalMesh: a pattern of masks over the mesh's directions"
+        );
         HierarchicalMesh {
-            dim: knots.len(),
+            dim,
             levels: vec![Level::new(knots)],
             refined: vec![HashSet::new()],
             periodic: [false; 3],
+            pattern,
         }
+    }
+
+    /// The pattern that halves the directions other than `normal` and then `normal` in
+    /// turn, over `dim` directions: a marked cell is halved in every direction over two
+    /// levels, and the cells that admissibility refines around it take the tangential
+    /// level first (`[discretization] refinement = "alternating"`).
+    pub fn alternating_pattern(dim: usize, normal: usize) -> Vec<[bool; 3]> {
+        let tangential = [0, 1, 2].map(|d| d < dim && d != normal);
+        let across = [0, 1, 2].map(|d| d == normal);
+        vec![tangential, across]
+    }
+
+    /// The directions that level `l + 1` halves of level `l`.
+    pub fn halved(&self, l: usize) -> [bool; 3] {
+        self.pattern[l % self.pattern.len()]
+    }
+
+    /// The pattern's length: the levels over which every direction is halved once (1 dyadic).
+    pub fn cycle(&self) -> usize {
+        self.pattern.len()
+    }
+
+    /// The refinement depth of the mesh in whole cycles of the pattern: the finest level
+    /// divided by [`Self::cycle`], rounded up (dyadic: the finest level).
+    pub fn depth(&self) -> usize {
+        (self.n_levels() - 1).div_ceil(self.cycle())
+    }
+
+    /// How many times direction `d` is halved from level 0 to level `l`.
+    fn halvings(&self, l: usize, d: usize) -> u32 {
+        let (n, m) = (
+            self.pattern.len(),
+            self.pattern.iter().filter(|h| h[d]).count(),
+        );
+        let rest = self.pattern[..l % n].iter().filter(|h| h[d]).count();
+        ((l / n) * m + rest) as u32
+    }
+
+    /// The cell of level `level ≤ c.level` that contains `c`.
+    #[track_caller]
+    pub fn ancestor(&self, c: Cell, level: usize) -> Cell {
+        assert!(
+            level <= c.level,
+            "HierarchicalMesh::ancestor: level {level} is finer"
+        );
+        let mut index = c.index;
+        for (d, i) in index.iter_mut().enumerate().take(self.dim) {
+            *i >>= self.halvings(c.level, d) - self.halvings(level, d);
+        }
+        Cell { level, index }
+    }
+
+    /// The children of a cell (`2^k` of them, `k` the directions its level halves), first
+    /// direction fastest.
+    pub fn children(&self, c: Cell) -> impl Iterator<Item = Cell> + use<> {
+        let halved = self.halved(c.level);
+        let split: Vec<usize> = (0..self.dim).filter(|&d| halved[d]).collect();
+        (0..1u32 << split.len()).map(move |k| {
+            let mut index = c.index;
+            for (b, &d) in split.iter().enumerate() {
+                index[d] = 2 * index[d] + ((k >> b) & 1);
+            }
+            Cell {
+                level: c.level + 1,
+                index,
+            }
+        })
     }
 
     /// Declares direction `d` periodic: its first and last layers of cells are
@@ -208,7 +279,7 @@ impl HierarchicalMesh {
     /// Number of elements of level `l` in direction `d` (1 for unused directions).
     pub fn n_cells(&self, l: usize, d: usize) -> u32 {
         if d < self.dim {
-            (self.levels[0].n_elements(d) << l) as u32
+            (self.levels[0].n_elements(d) as u32) << self.halvings(l, d)
         } else {
             1
         }
@@ -216,7 +287,7 @@ impl HierarchicalMesh {
 
     /// Whether the cell lies in `Ω^ℓ` (its parent is refined; every level-0 cell).
     pub fn in_domain(&self, c: Cell) -> bool {
-        c.level == 0 || self.is_refined(c.ancestor(c.level - 1))
+        c.level == 0 || self.is_refined(self.ancestor(c, c.level - 1))
     }
 
     /// Whether the cell is refined (its children lie in `Ω^{ℓ+1}`).
@@ -266,7 +337,7 @@ impl HierarchicalMesh {
 
     fn push_active(&self, c: Cell, out: &mut Vec<Cell>) {
         if self.is_refined(c) {
-            for child in c.children(self.dim) {
+            for child in self.children(c) {
                 self.push_active(child, out);
             }
         } else {
@@ -286,8 +357,9 @@ impl HierarchicalMesh {
         let mut c = Cell { level: 0, index };
         while self.is_refined(c) {
             let lv = &self.levels[c.level + 1];
-            let mut index = [0u32; 3];
-            for d in 0..self.dim {
+            let halved = self.halved(c.level);
+            let mut index = c.index;
+            for d in (0..self.dim).filter(|&d| halved[d]) {
                 let left = 2 * c.index[d];
                 let (_, mid) = lv.bounds(d, left);
                 index[d] = if xi[d] >= mid { left + 1 } else { left };
@@ -358,8 +430,21 @@ impl HierarchicalMesh {
         }
     }
 
-    /// Refines every active cell whose parametric box meets `pred` (e.g. a layer near a face),
-    /// once. Returns the number of cells marked.
+    /// Halves the given cells once in every direction: each cell refined, and its
+    /// descendants through the rest of one cycle of the pattern ([`Self::refine`] when
+    /// dyadic).
+    pub fn refine_cycle(&mut self, cells: &[Cell]) {
+        let mut now = cells.to_vec();
+        for step in 0..self.cycle() {
+            self.refine(&now);
+            if step + 1 < self.cycle() {
+                now = now.iter().flat_map(|&c| self.children(c)).collect();
+            }
+        }
+    }
+
+    /// Refines every active cell whose parametric box meets `pred` (e.g. a layer near a face)
+    /// once in every direction ([`Self::refine_cycle`]). Returns the number of cells marked.
     pub fn refine_where(
         &mut self,
         mut pred: impl FnMut(Cell, [f64; 3], [f64; 3]) -> bool,
@@ -372,7 +457,7 @@ impl HierarchicalMesh {
                 pred(c, lo, hi)
             })
             .collect();
-        self.refine(&marked);
+        self.refine_cycle(&marked);
         marked.len()
     }
 
@@ -381,15 +466,22 @@ impl HierarchicalMesh {
             return;
         }
         if !self.in_domain(c) {
-            self.refine_cell(c.ancestor(c.level - 1));
+            self.refine_cell(self.ancestor(c, c.level - 1));
         }
-        // Admissibility (class 2): the active cells of level ℓ − 1 meeting the support
-        // extension of c (the supports of the level-ℓ functions nonzero on c) first.
-        if c.level >= 1 {
+        // Admissibility (class 2 in cycles of the pattern): the cells of level ℓ − P (P the
+        // pattern's length; ℓ − 1 when dyadic) meeting the support extension of c (the
+        // supports of the level-ℓ functions nonzero on c) first.
+        let cycle = self.pattern.len();
+        if c.level >= cycle {
             let ext = self.support_extension(c);
-            let coarse = ext.map(|(a, b)| (a >> 1, b >> 1));
+            let cl = c.level - cycle;
+            let mut coarse = ext;
+            for d in 0..self.dim {
+                let s = self.halvings(c.level, d) - self.halvings(cl, d);
+                coarse[d] = (ext[d].0 >> s, ext[d].1 >> s);
+            }
             let mut todo = Vec::new();
-            self.all_cells(c.level - 1, coarse, |q| {
+            self.all_cells(cl, coarse, |q| {
                 if !self.is_refined(q) {
                     todo.push(q);
                 }
@@ -400,7 +492,11 @@ impl HierarchicalMesh {
             }
         }
         while self.levels.len() <= c.level + 1 {
-            let next = self.levels.last().expect("level 0").refined();
+            let next = self
+                .levels
+                .last()
+                .expect("level 0")
+                .refined(self.halved(self.levels.len() - 1));
             self.levels.push(next);
         }
         while self.refined.len() <= c.level + 1 {
@@ -448,11 +544,23 @@ impl HierarchicalMesh {
     pub fn face(&self, dir: usize, low: bool) -> HierarchicalMesh {
         assert!(self.dim >= 2 && dir < self.dim, "HierarchicalMesh::face");
         let others: Vec<usize> = (0..self.dim).filter(|&d| d != dir).collect();
-        let mut face = HierarchicalMesh::new(
+        let pattern = self
+            .pattern
+            .iter()
+            .map(|h| {
+                let mut m = [false; 3];
+                for (k, &d) in others.iter().enumerate() {
+                    m[k] = h[d];
+                }
+                m
+            })
+            .collect();
+        let mut face = HierarchicalMesh::with_pattern(
             others
                 .iter()
                 .map(|&d| self.levels[0].knots[d].clone())
                 .collect(),
+            pattern,
         );
         for (k, &d) in others.iter().enumerate() {
             face.periodic[k] = self.periodic[d];
@@ -463,7 +571,11 @@ impl HierarchicalMesh {
             }
             let edge = if low { 0 } else { self.n_cells(l, dir) - 1 };
             while face.levels.len() <= l + 1 {
-                let next = face.levels.last().expect("level 0").refined();
+                let next = face
+                    .levels
+                    .last()
+                    .expect("level 0")
+                    .refined(face.halved(face.levels.len() - 1));
                 face.levels.push(next);
             }
             while face.refined.len() <= l + 1 {
@@ -532,29 +644,80 @@ mod tests {
 
     #[test]
     fn refinement_is_admissible_of_class_2() {
-        // Refining one corner cell four times grades the mesh: every active cell of
-        // level ℓ meeting the support extension of an active cell of level ℓ + 2 or
-        // more would violate class 2.
-        let mut m = mesh2(8, 2);
-        for l in 0..4 {
-            m.refine(&[Cell {
-                level: l,
-                index: [0, 0, 0],
-            }]);
-        }
-        let cells = m.active_cells();
-        for &q in &cells {
-            let ext = m.support_extension(q);
-            for &c in &cells {
-                if c.level + 2 <= q.level {
-                    let a = c.index.map(|i| i << (q.level - c.level));
-                    let b = c.index.map(|i| ((i + 1) << (q.level - c.level)) - 1);
-                    let meets = (0..2).all(|d| a[d] <= ext[d].1 && b[d] >= ext[d].0);
-                    assert!(!meets, "{c:?} meets the support extension of {q:?}");
+        // Refining one corner cell four cycles deep grades the mesh: an active cell of
+        // level ℓ meeting the support extension of an active cell of level ℓ + P + 1 or
+        // more (P the pattern's length: one level dyadic, two graded) would violate class 2
+        // counted in cycles.
+        for (pattern, levels) in [
+            (vec![[true, true, false]], 5),
+            (vec![[true, false, false], [false, true, false]], 9),
+        ] {
+            let cycle = pattern.len();
+            let mut m = mesh2(8, 2);
+            m.pattern = pattern;
+            for l in 0..4 * cycle {
+                m.refine(&[Cell {
+                    level: l,
+                    index: [0, 0, 0],
+                }]);
+            }
+            let cells = m.active_cells();
+            for &q in &cells {
+                let ext = m.support_extension(q);
+                for &c in &cells {
+                    if c.level + cycle < q.level {
+                        let r = [0, 1].map(|d| m.n_cells(q.level, d) / m.n_cells(c.level, d));
+                        let meets = (0..2).all(|d| {
+                            c.index[d] * r[d] <= ext[d].1 && (c.index[d] + 1) * r[d] > ext[d].0
+                        });
+                        assert!(!meets, "{c:?} meets the support extension of {q:?}");
+                    }
                 }
             }
+            assert_eq!(m.n_levels(), levels);
+            assert!((area(&m) - 1.0).abs() < 1e-14);
         }
-        assert!(m.n_levels() == 5);
+    }
+
+    #[test]
+    fn a_graded_pattern_halves_its_directions_in_turn() {
+        // Level 1 halves x, level 2 halves y, level 3 x again.
+        let mut m = mesh2(4, 2);
+        m.pattern = vec![[true, false, false], [false, true, false]];
+        let c = Cell {
+            level: 0,
+            index: [1, 2, 0],
+        };
+        m.refine(&[c]);
+        let kids: Vec<Cell> = m.children(c).collect();
+        assert_eq!(kids.len(), 2);
+        assert_eq!(kids[1].index, [3, 2, 0]);
+        m.refine(&kids);
+        let grandkids: Vec<Cell> = kids.iter().flat_map(|&k| m.children(k)).collect();
+        assert_eq!(grandkids.len(), 4);
+        m.refine(&grandkids[..1]);
+        assert_eq!([0, 1].map(|d| m.n_cells(3, d)), [16, 8]);
+        assert_eq!([0, 1].map(|d| m.level(2).n_elements(d)), [8, 8]);
+        for &g in &grandkids {
+            assert_eq!(m.ancestor(g, 0), c);
+            assert_eq!(m.ancestor(g, 1).index, [g.index[0], g.index[1] / 2, 0]);
+        }
+        assert!((area(&m) - 1.0).abs() < 1e-14);
+        for k in 0..400 {
+            let xi = [
+                (k % 20) as f64 / 19.7 + 0.003,
+                (k / 20) as f64 / 19.3 + 0.001,
+            ];
+            let q = m.locate(&xi);
+            let (lo, hi) = m.bounds(q);
+            assert!(m.is_active(q));
+            assert!((0..2).all(|d| lo[d] <= xi[d].min(1.0) && xi[d].min(1.0) <= hi[d]));
+        }
+        // The face y = 1 sees the x-levels only: its level 2 repeats level 1.
+        let face = m.face(1, false);
+        assert_eq!(face.n_cells(1, 0), 8);
+        assert_eq!(face.n_cells(2, 0), 8);
+        assert_eq!(face.halved(1), [false; 3]);
     }
 
     #[test]

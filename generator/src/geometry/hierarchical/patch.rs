@@ -107,10 +107,11 @@ impl ThbPatch {
         }
     }
 
-    /// A copy with the given cells refined (see [`HierarchicalMesh::refine`]).
+    /// A copy with the given cells halved in every direction (see
+    /// [`HierarchicalMesh::refine_cycle`]).
     pub fn refined(&self, cells: &[Cell]) -> ThbPatch {
         let mut mesh = HierarchicalMesh::clone(&self.mesh);
-        mesh.refine(cells);
+        mesh.refine_cycle(cells);
         self.with_mesh(mesh)
     }
 

@@ -471,6 +471,33 @@ fn edge_neighbours_read_a_number_of_levels() {
     }
 }
 
+/// `[discretization] refinement` reads `"dyadic"` (the default, left out when
+/// the case is written, so that tables keep their hashes) or `"alternating"`;
+/// anything else is refused with the key and the values named.
+#[test]
+fn refinement_reads_dyadic_or_alternating() {
+    let read = |value: &str| {
+        Case::from_toml(
+            &format!("{MINIMAL}\n[discretization]\nrefinement = {value}\n"),
+            Path::new("."),
+        )
+    };
+    let written = |c: &Case| toml::to_string(&c.discretization).unwrap();
+    let c = read("\"alternating\"").unwrap();
+    assert_eq!(c.discretization.refinement, RefinementPattern::Alternating);
+    assert!(written(&c).contains("refinement = \"alternating\""));
+    let c = read("\"dyadic\"").unwrap();
+    assert_eq!(c.discretization.refinement, RefinementPattern::Dyadic);
+    assert!(!written(&c).contains("refinement"), "{}", written(&c));
+    let c = Case::from_toml(MINIMAL, Path::new(".")).unwrap();
+    assert_eq!(c.discretization.refinement, RefinementPattern::Dyadic);
+    for bad in ["\"anisotropic\"", "2", "true"] {
+        let e = read(bad).unwrap_err().to_string();
+        assert!(e.contains("refinement"), "{bad}: {e}");
+        assert!(e.contains("alternating"), "{bad}: {e}");
+    }
+}
+
 /// The bulk rule has at least `p` Gauss points per direction, and 2 at p = 1:
 /// fewer leave zero-energy modes (docs/3d.md, "Stop 97"); the error says so.
 #[test]

@@ -34,6 +34,7 @@ use crate::contact::{
 };
 use crate::geometry::{KnotVector, NurbsPatch, Side, ThbPatch, shapes};
 use crate::material::Material;
+use crate::sample::case::RefinementPattern;
 use crate::sample::micro::interface_refined;
 use crate::solve::{LoadStepping, Model, ModelBuilder, Newton, NewtonSettings, Scales};
 
@@ -196,8 +197,20 @@ impl PatchSetup {
     pub fn bodies(&self) -> (ThbPatch, ThbPatch) {
         let (lower, upper) = self.patches();
         (
-            interface_refined(&lower, Side::High, self.lower.interface_levels, false),
-            interface_refined(&upper, Side::Low, self.upper.interface_levels, false),
+            interface_refined(
+                &lower,
+                Side::High,
+                self.lower.interface_levels,
+                false,
+                RefinementPattern::Dyadic,
+            ),
+            interface_refined(
+                &upper,
+                Side::Low,
+                self.upper.interface_levels,
+                false,
+                RefinementPattern::Dyadic,
+            ),
         )
     }
 
