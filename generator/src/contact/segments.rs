@@ -641,7 +641,10 @@ fn slave_point(
     }
 }
 
-/// Appends to `breaks` every change of piece between `left` and `right`.
+/// Appends to `breaks` every change of piece between `left` and `right`, each
+/// located to `tolerance`, or to the spacing of doubles where that is coarser
+/// (a small element far from 0 in the slave parameter: its mid-point then
+/// rounds onto an end, and the interval no longer shrinks).
 fn bisect(
     at: &mut impl FnMut(f64) -> Result<Piece>,
     left: (f64, Piece),
@@ -652,11 +655,11 @@ fn bisect(
     if left.1 == right.1 {
         return Ok(());
     }
-    if right.0 - left.0 <= tolerance {
-        breaks.push((0.5 * (left.0 + right.0), (left.1, right.1)));
+    let m = 0.5 * (left.0 + right.0);
+    if right.0 - left.0 <= tolerance || m <= left.0 || m >= right.0 {
+        breaks.push((m, (left.1, right.1)));
         return Ok(());
     }
-    let m = 0.5 * (left.0 + right.0);
     let mid = (m, at(m)?);
     bisect(at, left, mid, tolerance, breaks)?;
     bisect(at, mid, right, tolerance, breaks)
@@ -666,6 +669,28 @@ fn bisect(
 mod tests {
     use super::*;
     use crate::geometry::{Side, ThbPatch, shapes};
+
+    /// A change of piece inside two neighbouring doubles is located there: the
+    /// bisection ends although its tolerance lies below their spacing (it
+    /// recursed without end on the fine elements of a degree-1 2D adaptive
+    /// level near ξ = 0.52, stop 101).
+    #[test]
+    fn a_break_below_the_spacing_of_doubles_ends_the_bisection() {
+        let x: f64 = 0.52;
+        let next = f64::from_bits(x.to_bits() + 1);
+        let mut calls = 0;
+        let mut at = |xi: f64| -> Result<Piece> {
+            calls += 1;
+            Ok((usize::from(xi > x), 0, false))
+        };
+        let mut breaks = Vec::new();
+        let (a, b) = (x - 1e-6, x + 1e-6);
+        let (left, right) = ((a, at(a).unwrap()), (b, at(b).unwrap()));
+        bisect(&mut at, left, right, (b - a) * BREAK_TOLERANCE, &mut breaks).unwrap();
+        assert_eq!(breaks.len(), 1);
+        assert!(breaks[0].0 == x || breaks[0].0 == next, "{breaks:?}");
+        assert!(calls < 100, "{calls} evaluations");
+    }
 
     #[test]
     fn segments_split_at_the_pieces_and_integrate_the_length() {
