@@ -215,9 +215,9 @@ pub enum RefinementPattern {
     /// The levels halve the lateral directions and then the direction through
     /// the height in turn, so that a refinement is two levels and the cells
     /// graded below a refined face may stay as tall as their parents. On the 3D
-    /// benchmark's egg box: the jumps of levels 4–5 within 0.24 and 0.07 % of
-    /// the dyadic ones, at 0.83–0.86 times the unknowns, but elements that carry
-    /// more functions (docs/3d.md, "Stop 101").
+    /// benchmark's egg box at 244.1 kPa: the jumps of levels 4–5 within 0.24 and
+    /// 0.07 % of the dyadic ones with 0.86 times the unknowns; the six-level path
+    /// took longer, its elements carrying more functions (docs/3d.md, "Stop 101").
     Alternating,
 }
 
