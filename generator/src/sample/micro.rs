@@ -494,13 +494,13 @@ pub fn interface_refined(
     refinement: RefinementPattern,
 ) -> ThbPatch {
     let normal = patch.param_dim() - 1;
-    let mut thb = ThbPatch::from_nurbs(patch);
-    if refinement == RefinementPattern::Alternating {
-        thb = thb.with_mesh(HierarchicalMesh::with_pattern(
-            patch.knots().to_vec(),
+    let mut thb = match refinement {
+        RefinementPattern::Dyadic => ThbPatch::from_nurbs(patch),
+        RefinementPattern::Alternating => ThbPatch::from_nurbs_with_pattern(
+            patch,
             HierarchicalMesh::alternating_pattern(patch.param_dim(), normal),
-        ));
-    }
+        ),
+    };
     if periodic {
         for d in 0..normal {
             thb = thb.periodic(d);

@@ -36,22 +36,15 @@ fn base(dim: usize, p: usize, n: usize) -> NurbsPatch {
 }
 
 /// The THB patch of [`base`]: dyadic, or (`graded`) with levels that halve the directions
-/// before the last and then the last in turn (in 1D: the direction, then none, a repeated
+/// before the last and then the last in turn (in 1D: none, then the direction; a repeated
 /// level as in the face traces of such meshes).
 fn start(dim: usize, p: usize, n: usize, graded: bool) -> ThbPatch {
-    let thb = ThbPatch::from_nurbs(&base(dim, p, n));
-    if !graded {
-        return thb;
+    if graded {
+        let pattern = HierarchicalMesh::alternating_pattern(dim, dim - 1);
+        ThbPatch::from_nurbs_with_pattern(&base(dim, p, n), pattern)
+    } else {
+        ThbPatch::from_nurbs(&base(dim, p, n))
     }
-    let knots = (0..dim)
-        .map(|d| thb.mesh().level(0).knots[d].clone())
-        .collect();
-    let tangential = [0, 1, 2].map(|d| d + 1 < dim || dim == 1 && d == 0);
-    let normal = [0, 1, 2].map(|d| dim > 1 && d + 1 == dim);
-    thb.with_mesh(HierarchicalMesh::with_pattern(
-        knots,
-        vec![tangential, normal],
-    ))
 }
 
 /// Refines random active cells in `rounds` rounds.

@@ -146,7 +146,12 @@ impl HierarchicalMesh {
     #[track_caller]
     pub fn new(knots: Vec<KnotVector>) -> Self {
         let dim = knots.len();
-        Self::with_pattern(knots, vec![[0, 1, 2].map(|d| d < dim)])
+        Self::with_pattern(knots, Self::dyadic_pattern(dim))
+    }
+
+    /// The pattern that halves every one of `dim` directions at every level.
+    pub fn dyadic_pattern(dim: usize) -> Vec<[bool; 3]> {
+        vec![[0, 1, 2].map(|d| d < dim)]
     }
 
     /// The mesh of one level whose level `ℓ + 1` halves the directions
@@ -229,18 +234,32 @@ impl HierarchicalMesh {
     /// The children of a cell (`2^k` of them, `k` the directions its level halves), first
     /// direction fastest.
     pub fn children(&self, c: Cell) -> impl Iterator<Item = Cell> + use<> {
-        let halved = self.halved(c.level);
-        let split: Vec<usize> = (0..self.dim).filter(|&d| halved[d]).collect();
-        (0..1u32 << split.len()).map(move |k| {
-            let mut index = c.index;
-            for (b, &d) in split.iter().enumerate() {
-                index[d] = 2 * index[d] + ((k >> b) & 1);
-            }
-            Cell {
-                level: c.level + 1,
-                index,
-            }
-        })
+        let (dim, halved) = (self.dim, self.halved(c.level));
+        // Bit d of k: the upper half in direction d; none in a direction not halved.
+        (0..1u32 << dim)
+            .filter(move |k| (0..dim).all(|d| halved[d] || (k >> d) & 1 == 0))
+            .map(move |k| {
+                let mut index = c.index;
+                for d in (0..dim).filter(|&d| halved[d]) {
+                    index[d] = 2 * index[d] + ((k >> d) & 1);
+                }
+                Cell {
+                    level: c.level + 1,
+                    index,
+                }
+            })
+    }
+
+    /// Creates the levels up to `l` (on demand, as refinement reaches them).
+    fn ensure_level(&mut self, l: usize) {
+        while self.levels.len() <= l {
+            let next = self
+                .levels
+                .last()
+                .expect("level 0")
+                .refined(self.halved(self.levels.len() - 1));
+            self.levels.push(next);
+        }
     }
 
     /// Declares direction `d` periodic: its first and last layers of cells are
@@ -491,14 +510,7 @@ impl HierarchicalMesh {
                 self.refine_cell(q);
             }
         }
-        while self.levels.len() <= c.level + 1 {
-            let next = self
-                .levels
-                .last()
-                .expect("level 0")
-                .refined(self.halved(self.levels.len() - 1));
-            self.levels.push(next);
-        }
+        self.ensure_level(c.level + 1);
         while self.refined.len() <= c.level + 1 {
             self.refined.push(HashSet::new());
         }
@@ -570,14 +582,7 @@ impl HierarchicalMesh {
                 continue;
             }
             let edge = if low { 0 } else { self.n_cells(l, dir) - 1 };
-            while face.levels.len() <= l + 1 {
-                let next = face
-                    .levels
-                    .last()
-                    .expect("level 0")
-                    .refined(face.halved(face.levels.len() - 1));
-                face.levels.push(next);
-            }
+            face.ensure_level(l + 1);
             while face.refined.len() <= l + 1 {
                 face.refined.push(HashSet::new());
             }

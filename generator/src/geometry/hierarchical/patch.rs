@@ -54,9 +54,17 @@ impl From<&NurbsPatch> for ThbPatch {
 }
 
 impl ThbPatch {
-    /// The unrefined THB patch of a NURBS patch (same functions, numbering and elements).
+    /// The unrefined THB patch of a NURBS patch (same functions, numbering and elements),
+    /// refined dyadically from now on.
     pub fn from_nurbs(patch: &NurbsPatch) -> Self {
-        let mesh = HierarchicalMesh::new(patch.knots().to_vec());
+        let dyadic = HierarchicalMesh::dyadic_pattern(patch.param_dim());
+        Self::from_nurbs_with_pattern(patch, dyadic)
+    }
+
+    /// [`Self::from_nurbs`] whose levels halve the directions of `pattern` in turn (see
+    /// [`HierarchicalMesh::with_pattern`]).
+    pub fn from_nurbs_with_pattern(patch: &NurbsPatch, pattern: Vec<[bool; 3]>) -> Self {
+        let mesh = HierarchicalMesh::with_pattern(patch.knots().to_vec(), pattern);
         let basis = ThbBasis::new(&mesh);
         debug_assert_eq!(basis.n_functions(), patch.n_control_points());
         ThbPatch {
