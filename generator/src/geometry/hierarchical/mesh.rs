@@ -619,6 +619,22 @@ mod tests {
             .sum()
     }
 
+    /// Points over the unit square each lie in the active cell that
+    /// `locate` finds, which is one of `cells` (the mesh's active cells).
+    fn assert_located_in(m: &HierarchicalMesh, cells: &[Cell]) {
+        for k in 0..400 {
+            let xi = [
+                (k % 20) as f64 / 19.7 + 0.003,
+                (k / 20) as f64 / 19.3 + 0.001,
+            ];
+            let c = m.locate(&xi);
+            assert!(m.is_active(c));
+            let (lo, hi) = m.bounds(c);
+            assert!((0..2).all(|d| lo[d] <= xi[d].min(1.0) && xi[d].min(1.0) <= hi[d]));
+            assert!(cells.contains(&c));
+        }
+    }
+
     #[test]
     fn active_cells_tile_the_domain() {
         let mut m = mesh2(4, 2);
@@ -634,17 +650,7 @@ mod tests {
         let cells = m.active_cells();
         assert!((area(&m) - 1.0).abs() < 1e-14);
         // Every point lies in exactly one active cell, the one `locate` finds.
-        for k in 0..400 {
-            let xi = [
-                (k % 20) as f64 / 19.7 + 0.003,
-                (k / 20) as f64 / 19.3 + 0.001,
-            ];
-            let c = m.locate(&xi);
-            assert!(m.is_active(c));
-            let (lo, hi) = m.bounds(c);
-            assert!((0..2).all(|d| lo[d] <= xi[d].min(1.0) && xi[d].min(1.0) <= hi[d]));
-            assert!(cells.contains(&c));
-        }
+        assert_located_in(&m, &cells);
     }
 
     #[test]
@@ -708,16 +714,7 @@ mod tests {
             assert_eq!(m.ancestor(g, 1).index, [g.index[0], g.index[1] / 2, 0]);
         }
         assert!((area(&m) - 1.0).abs() < 1e-14);
-        for k in 0..400 {
-            let xi = [
-                (k % 20) as f64 / 19.7 + 0.003,
-                (k / 20) as f64 / 19.3 + 0.001,
-            ];
-            let q = m.locate(&xi);
-            let (lo, hi) = m.bounds(q);
-            assert!(m.is_active(q));
-            assert!((0..2).all(|d| lo[d] <= xi[d].min(1.0) && xi[d].min(1.0) <= hi[d]));
-        }
+        assert_located_in(&m, &m.active_cells());
         // The face y = 1 sees the x-levels only: its level 2 repeats level 1.
         let face = m.face(1, false);
         assert_eq!(face.n_cells(1, 0), 8);
