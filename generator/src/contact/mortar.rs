@@ -258,6 +258,10 @@ pub struct ContactInterface {
     projected_at: Vec<[f64; 3]>,
     /// Second-derivative terms of the weighted gaps from moving breakpoints.
     break_terms: Vec<BreakTerm>,
+    /// Whether the mechanical tangent holds the contact's curvature, the
+    /// gaps' second variations weighted by the pressures
+    /// (`−pN^I ⟨N^I H_g⟩`, [`ContactInterface::set_curvature`]).
+    curvature: bool,
 }
 
 /// The unknowns of a contact element ([`ContactInterface::element_dofs`]:
@@ -774,6 +778,7 @@ impl ContactInterface {
             clipping: Clipping::default(),
             projected_at: Vec::new(),
             break_terms: Vec::new(),
+            curvature: true,
         })
     }
 
@@ -1600,7 +1605,7 @@ impl ContactInterface {
             jump: vec![0.0; n],
         };
         for i in (0..n).filter(|&i| !self.is_copy(i) && self.is_active(i)) {
-            if mechanical {
+            if mechanical && self.curvature {
                 w.gap[i] = -self.pressure(i);
             }
             if thermal {
@@ -1608,6 +1613,20 @@ impl ContactInterface {
             }
         }
         Some(w)
+    }
+
+    /// Leaves the contact's curvature out of the mechanical tangent
+    /// (`false`) or puts it back (`true`, the default): the gaps' second
+    /// variations weighted by the pressures, `−pN^I ⟨N^I H_g⟩` of the
+    /// Alart–Curnier tangent (spec §6), which the tangent of the lumped
+    /// constraints keeps otherwise. Under pressures of the order of `E` on a
+    /// small spot of a steep surface that term makes the displacement block
+    /// indefinite, and Newton's increment from a state out of equilibrium can
+    /// follow the resulting saddle far out of the bodies' domain
+    /// ([`crate::solve::NonlinearProblem::set_contact_curvature`]; docs/3d.md,
+    /// "Stop 103"). The residual does not change.
+    pub fn set_curvature(&mut self, on: bool) {
+        self.curvature = on;
     }
 
     /// The node that carries point `q`'s Hessians (the one of largest test
@@ -2511,12 +2530,14 @@ impl ContactInterface {
                     r[il] -= gs;
                 }
                 if want_h {
+                    // Without the curvature (2D: the node's own Hessians).
+                    let curved = if self.curvature { pn } else { 0.0 };
                     for a in 0..nd {
                         for b in 0..nd {
                             add_k(
                                 a,
                                 b,
-                                -pn * at(&h, a * nd + b) + self.eps_n * g[a] * g[b] / area,
+                                -curved * at(&h, a * nd + b) + self.eps_n * g[a] * g[b] / area,
                             );
                         }
                         if let Some(il) = iln {

@@ -1689,6 +1689,17 @@ impl NonlinearProblem for Model {
         Some((n, h.finish()))
     }
 
+    fn set_contact_curvature(&mut self, on: bool) -> bool {
+        let mechanical = self.contact_unknowns().is_some_and(|u| u.mechanical_terms);
+        match self.contact.as_mut() {
+            Some(c) if mechanical || on => {
+                c.set_curvature(on);
+                mechanical
+            }
+            _ => false,
+        }
+    }
+
     fn load_norms(&self) -> Vec<f64> {
         let mut s = [0.0; 4];
         for (v, &c) in self.external().iter().zip(&self.eq_class) {

@@ -97,6 +97,31 @@ pub trait NonlinearProblem: Send {
     /// a factorization of at least [`FACTOR_BYTES_RELEASING_CACHES`] holds the
     /// memory (the 3D models' bulk quadrature).
     fn release_caches_for_factorization(&mut self) {}
+    /// Leaves the contact's curvature out of the tangent (`false`) or puts it
+    /// back (`true`): the gaps' second variations weighted by the pressures,
+    /// which under pressures of the order of `E` can make the tangent
+    /// indefinite ([`crate::contact::ContactInterface::set_curvature`]). The
+    /// residual does not change. Returns whether the tangent holds such terms;
+    /// `false` without contact.
+    ///
+    /// At a constant load, [`Newton`] takes a solve's first increment again
+    /// from the initial state with the tangent without them where no halving
+    /// of it evaluates ([`NON_FINITE_RESIDUAL`], `UNEVALUABLE_HALVINGS`),
+    /// then goes on with the curvature. On a steep height map (docs/3d.md,
+    /// "Stop 103") the spots of an adaptive level carry pressures of the
+    /// order of `E`, the curvature makes the displacement block indefinite
+    /// there, and the first increment from the carried-over state, almost all
+    /// along one saddle mode, moved the faces 2.4 cell widths (24 μm on 7 μm
+    /// tall bodies): no halving to 1/32 evaluated, and the level was solved
+    /// again from the configuration solved (125.5 s). Taken again without
+    /// the curvature, it converged from the carried-over state (68.6 s), to
+    /// the same jump within 3e-7.
+    /// Later increments are not taken again: where they met such states the
+    /// solves went on without progress, and a level that falls back to the
+    /// configuration solved or to rest sooner took less time.
+    fn set_contact_curvature(&mut self, _on: bool) -> bool {
+        false
+    }
     /// The discrete part of the prepared state (the contact's active set): the nodes in it
     /// and a hash of which they are; `None` without one. `TCGEN_TRACE` prints it per
     /// iterate. States within the residual tolerance may differ by a node or two at a
@@ -784,8 +809,22 @@ impl Newton {
     }
 
     /// [`Newton::iterate`], stopped after `increments` increments if given;
-    /// also returns whether the residual converged.
+    /// also returns whether the residual converged. The problem leaves with
+    /// its contact's curvature in the tangent, however the iterations end.
     fn iterate_up_to<P: NonlinearProblem + ?Sized>(
+        &mut self,
+        p: &mut P,
+        step: usize,
+        load_factor: f64,
+        increments: Option<usize>,
+    ) -> Result<(Vec<IterationRecord>, bool)> {
+        let result = self.iterations(p, step, load_factor, increments);
+        p.set_contact_curvature(true);
+        result
+    }
+
+    /// The iterations of [`Newton::iterate_up_to`].
+    fn iterations<P: NonlinearProblem + ?Sized>(
         &mut self,
         p: &mut P,
         step: usize,
@@ -805,15 +844,22 @@ impl Newton {
         // evaluate (`homogenize::path` solves such a level again from the
         // configuration solved, then from rest).
         let shortened = std::cell::Cell::new(0usize);
+        // Increments taken again without the contact's curvature
+        // ([`NonlinearProblem::set_contact_curvature`]).
+        let retaken = std::cell::Cell::new(0usize);
         let fail = |iterations: usize, reason: String| Error::NewtonDiverged {
             step,
             load_factor,
             iterations,
-            reason: match shortened.get() {
-                k if k > 0 && reason != NON_FINITE_RESIDUAL => {
+            reason: match (retaken.get(), shortened.get()) {
+                _ if reason == NON_FINITE_RESIDUAL => reason,
+                (0, 0) => reason,
+                (0, k) => {
                     format!("{NON_FINITE_RESIDUAL} met and increments halved {k}×, then {reason}")
                 }
-                _ => reason,
+                (j, k) => format!(
+                    "{NON_FINITE_RESIDUAL} met, increments taken again without the contact's curvature {j}× and halved {k}×, then {reason}"
+                ),
             },
         };
         // A failed linear solve fails the iteration, but memory that is not
@@ -830,6 +876,8 @@ impl Newton {
         let mut taken: Option<TakenIncrement> = None;
         // The smallest residual merit so far and its iteration.
         let mut smallest = (f64::INFINITY, 0);
+        // Whether the next increment is taken without the contact's curvature.
+        let mut flat_next = false;
         for it in 0..=self.settings.max_iterations {
             if increments.is_some_and(|m| it >= m) {
                 return Ok((history, false));
@@ -866,7 +914,26 @@ impl Newton {
                             );
                         }
                     }
-                    None => return Err(fail(it, NON_FINITE_RESIDUAL.into())),
+                    None => {
+                        // No halving of the solve's first increment evaluates:
+                        // it is taken again from the initial state with a
+                        // tangent without the contact's curvature (and halved
+                        // likewise should its end not evaluate either).
+                        match taken.take().filter(|t| t.first) {
+                            Some(t) if p.set_contact_curvature(false) => {
+                                p.restore(&t.from);
+                                p.after_update();
+                                retaken.set(retaken.get() + 1);
+                                flat_next = true;
+                                if trace {
+                                    eprintln!(
+                                        "  step {step} λ={load_factor:.4} it {it}: {NON_FINITE_RESIDUAL}; the increment taken again without the contact's curvature"
+                                    );
+                                }
+                            }
+                            _ => return Err(fail(it, NON_FINITE_RESIDUAL.into())),
+                        }
+                    }
                 }
             };
             history.push(IterationRecord {
@@ -915,7 +982,7 @@ impl Newton {
             if merit < smallest.0 {
                 smallest = (merit, it);
             }
-            if shortened.get() > 0 && it - smallest.1 >= SHORTENED_STAGNATION {
+            if shortened.get() + retaken.get() > 0 && it - smallest.1 >= SHORTENED_STAGNATION {
                 return Err(fail(
                     it,
                     format!(
@@ -1095,10 +1162,14 @@ impl Newton {
                 }
                 r.iter_mut().for_each(|v| *v *= t);
             }
+            if std::mem::take(&mut flat_next) {
+                p.set_contact_curvature(true);
+            }
             taken = shortens.then(|| TakenIncrement {
                 from: p.save(),
                 increment: r.clone(),
                 halvings: 0,
+                first: it == 0,
             });
             p.update(&r);
             p.after_update();
@@ -1253,6 +1324,8 @@ struct TakenIncrement {
     from: Vec<f64>,
     increment: Vec<f64>,
     halvings: usize,
+    /// Whether it is the solve's first increment, from its initial state.
+    first: bool,
 }
 
 impl TakenIncrement {
@@ -1479,6 +1552,12 @@ mod tests {
         load: f64,
         constant: bool,
         residual: fn(f64, f64) -> (f64, f64),
+        /// The "contact curvature's" part of the slope, left out of the
+        /// tangent while `curved` is off
+        /// ([`NonlinearProblem::set_contact_curvature`]), and how often it was.
+        curvature: Option<fn(f64) -> f64>,
+        curved: bool,
+        flat_tangents: usize,
     }
 
     impl Scalar {
@@ -1489,6 +1568,16 @@ mod tests {
                 load: 1.0,
                 constant,
                 residual,
+                curvature: None,
+                curved: true,
+                flat_tangents: 0,
+            }
+        }
+
+        fn with_curvature(self, curvature: fn(f64) -> f64) -> Self {
+            Scalar {
+                curvature: Some(curvature),
+                ..self
             }
         }
     }
@@ -1519,7 +1608,13 @@ mod tests {
             let (r, slope) = (self.residual)(self.x, self.load);
             residual[0] = r;
             if let Some(v) = values {
-                v[0] = slope;
+                v[0] = match (self.curved, self.curvature) {
+                    (false, Some(c)) => {
+                        self.flat_tangents += 1;
+                        slope - c(self.x)
+                    }
+                    _ => slope,
+                };
             }
             Ok(())
         }
@@ -1534,6 +1629,10 @@ mod tests {
         }
         fn restore(&mut self, state: &[f64]) {
             self.x = state[0];
+        }
+        fn set_contact_curvature(&mut self, on: bool) -> bool {
+            self.curved = on;
+            self.curvature.is_some()
         }
     }
 
@@ -1622,6 +1721,75 @@ mod tests {
         // increment is −x ln(x/2) ≈ −33.8 x), and the iterations fail as before.
         let (reason, _) = failure(Scalar::new(1e15, true, logarithm), &settings);
         assert_eq!(reason, NON_FINITE_RESIDUAL);
+    }
+
+    /// `R(x) = ln x − a (x − 1)³` (root 1, not finite for `x ≤ 0`), whose
+    /// "curvature" `−3a (x − 1)²` ([`soft_curvature`]) nearly cancels the
+    /// slope at `x = 3`: Newton's increment there, about −8 800, leaves the
+    /// domain at every halving to 1/32; without the curvature it is −2.63.
+    fn soft(x: f64, _: f64) -> (f64, f64) {
+        const A: f64 = (1.0 / 3.0 - 1e-4) / 12.0;
+        match x > 0.0 {
+            true => (x.ln() - A * (x - 1.0).powi(3), 1.0 / x + soft_curvature(x)),
+            false => (f64::NAN, f64::NAN),
+        }
+    }
+
+    /// The "curvature's" part of [`soft`]'s slope.
+    fn soft_curvature(x: f64) -> f64 {
+        -3.0 * (1.0 / 3.0 - 1e-4) / 12.0 * (x - 1.0).powi(2)
+    }
+
+    /// An increment at a constant load whose end cannot be evaluated at any
+    /// of its halvings, the solve's first, is taken again without the contact's curvature
+    /// ([`NonlinearProblem::set_contact_curvature`]), and Newton converges from there with the
+    /// curvature back in its tangent; a problem without such terms fails as
+    /// before, and however the solve ends, the curvature is back in.
+    #[test]
+    fn an_unevaluable_increment_is_taken_again_without_the_contact_curvature() {
+        let settings = NewtonSettings {
+            relative_tolerance: 1e-12,
+            ..NewtonSettings::default()
+        };
+        let solve = |p: &mut Scalar, settings: &NewtonSettings| {
+            let mut newton = Newton::new(settings.clone(), LoadStepping::default());
+            p.set_load(1.0);
+            newton.iterate(p, 0, 1.0)
+        };
+        let mut p = Scalar::new(3.0, true, soft).with_curvature(soft_curvature);
+        let history = solve(&mut p, &settings).unwrap();
+        assert!((p.x - 1.0).abs() < 1e-9, "{}", p.x);
+        assert_eq!(p.flat_tangents, 1);
+        assert!(p.curved);
+        // Quadratic from there: a handful of iterations.
+        assert!(history.len() <= 9, "{} iterations", history.len());
+        // Without the curvature's switch, the halvings alone do not evaluate.
+        let mut plain = Scalar::new(3.0, true, soft);
+        match solve(&mut plain, &settings) {
+            Err(Error::NewtonDiverged { reason, .. }) => assert_eq!(reason, NON_FINITE_RESIDUAL),
+            other => panic!("{other:?}"),
+        }
+        // A solve that ends after the curvature-free increment (one
+        // iteration allowed) says so first, and leaves the curvature in.
+        let one = NewtonSettings {
+            max_iterations: 1,
+            ..settings.clone()
+        };
+        let mut p = Scalar::new(3.0, true, soft).with_curvature(soft_curvature);
+        match solve(&mut p, &one) {
+            Err(Error::NewtonDiverged { reason, .. }) => assert!(
+                reason.starts_with(&format!(
+                    "{NON_FINITE_RESIDUAL} met, increments taken again without the contact's curvature 1× and halved 5×, then"
+                )),
+                "{reason}"
+            ),
+            other => panic!("{other:?}"),
+        }
+        assert!(p.curved);
+        // Where the load varies, load stepping cuts back instead.
+        let mut p = Scalar::new(3.0, false, soft).with_curvature(soft_curvature);
+        assert!(solve(&mut p, &settings).is_err());
+        assert_eq!(p.flat_tangents, 0);
     }
 
     /// Iterates that return to the same states are detected after four
