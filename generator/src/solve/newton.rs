@@ -982,7 +982,8 @@ impl Newton {
             if merit < smallest.0 {
                 smallest = (merit, it);
             }
-            if shortened.get() + retaken.get() > 0 && it - smallest.1 >= SHORTENED_STAGNATION {
+            // (A retake follows halvings: `shortened` counts it in.)
+            if shortened.get() > 0 && it - smallest.1 >= SHORTENED_STAGNATION {
                 return Err(fail(
                     it,
                     format!(
@@ -1728,23 +1729,29 @@ mod tests {
     /// slope at `x = 3`: Newton's increment there, about −8 800, leaves the
     /// domain at every halving to 1/32; without the curvature it is −2.63.
     fn soft(x: f64, _: f64) -> (f64, f64) {
-        const A: f64 = (1.0 / 3.0 - 1e-4) / 12.0;
         match x > 0.0 {
-            true => (x.ln() - A * (x - 1.0).powi(3), 1.0 / x + soft_curvature(x)),
+            true => (
+                x.ln() - SOFT_A * (x - 1.0).powi(3),
+                1.0 / x + soft_curvature(x),
+            ),
             false => (f64::NAN, f64::NAN),
         }
     }
 
+    /// [`soft`]'s `a`: the slope at `x = 3` is `1/3 − 12a = 1e-4`.
+    const SOFT_A: f64 = (1.0 / 3.0 - 1e-4) / 12.0;
+
     /// The "curvature's" part of [`soft`]'s slope.
     fn soft_curvature(x: f64) -> f64 {
-        -3.0 * (1.0 / 3.0 - 1e-4) / 12.0 * (x - 1.0).powi(2)
+        -3.0 * SOFT_A * (x - 1.0).powi(2)
     }
 
-    /// An increment at a constant load whose end cannot be evaluated at any
-    /// of its halvings, the solve's first, is taken again without the contact's curvature
-    /// ([`NonlinearProblem::set_contact_curvature`]), and Newton converges from there with the
-    /// curvature back in its tangent; a problem without such terms fails as
-    /// before, and however the solve ends, the curvature is back in.
+    /// A solve's first increment at a constant load whose end cannot be
+    /// evaluated at any of its halvings is taken again without the contact's
+    /// curvature ([`NonlinearProblem::set_contact_curvature`]), and Newton
+    /// converges from there with the curvature back in its tangent; a
+    /// problem without such terms fails as before, and however the solve
+    /// ends, the curvature is back in.
     #[test]
     fn an_unevaluable_increment_is_taken_again_without_the_contact_curvature() {
         let settings = NewtonSettings {
