@@ -833,6 +833,26 @@ impl Case {
         Ok(())
     }
 
+    /// Pins the content of each measured surface's data file: its SHA-256
+    /// into `file_sha256` (a digest the case already gives is checked against
+    /// the file first), so that a configuration's hash identifies the heights
+    /// and the surfaces built later are those of that content
+    /// ([`crate::surface::read_data_file`]).
+    pub fn pin_data_files(&mut self) -> Result<()> {
+        let base = self.base_dir.clone();
+        for (key, spec) in [
+            ("surface.upper", &mut self.surface.upper),
+            ("surface.lower", &mut self.surface.lower),
+        ] {
+            if let Some((file, digest)) = spec.data_file_mut() {
+                let (_, text) =
+                    crate::surface::read_data_file(key, file, digest.as_deref(), &base)?;
+                *digest = Some(crate::io::hash::sha256_hex(text.as_bytes()));
+            }
+        }
+        Ok(())
+    }
+
     /// Builds the upper and lower profiles of a 2D case (an error names the key).
     pub fn surfaces(&self) -> Result<(Box<dyn Surface>, Box<dyn Surface>)> {
         let w = self.sample.width;
@@ -913,14 +933,19 @@ impl Case {
                 BodySurface::Areal(a) => {
                     a.validate(key, w)?;
                     match a {
-                        ArealSpec::Heightmap { file } => {
-                            let path = if file.is_absolute() {
-                                file.clone()
-                            } else {
-                                self.base_dir.join(file)
-                            };
-                            let map =
-                                crate::surface::HeightMap::read(&path, w, &format!("{key}.file"))?;
+                        ArealSpec::Heightmap { file, file_sha256 } => {
+                            let (path, text) = crate::surface::read_data_file(
+                                key,
+                                file,
+                                file_sha256.as_deref(),
+                                &self.base_dir,
+                            )?;
+                            let map = crate::surface::HeightMap::parse(
+                                &text,
+                                &path,
+                                w,
+                                &format!("{key}.file"),
+                            )?;
                             Some((map.largest_height(), "the largest |height| of the map"))
                         }
                         ArealSpec::Sinusoid {

@@ -87,6 +87,9 @@ pub enum ArealSpec {
     Heightmap {
         /// CSV file, relative to the case file.
         file: PathBuf,
+        /// SHA-256 of the file's content ([`crate::surface::read_data_file`]).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        file_sha256: Option<String>,
     },
 }
 
@@ -134,7 +137,10 @@ impl ArealSpec {
     /// Checks the parameters against the cell width; `key` names the table.
     pub fn validate(&self, key: &str, width: f64) -> Result<()> {
         match self {
-            ArealSpec::Flat | ArealSpec::Heightmap { .. } => Ok(()),
+            ArealSpec::Flat => Ok(()),
+            ArealSpec::Heightmap { file_sha256, .. } => {
+                crate::surface::check_sha256_key(key, file_sha256.as_deref())
+            }
             ArealSpec::Sinusoid {
                 rms,
                 wavelength,
@@ -205,13 +211,15 @@ impl ArealSpec {
                 phase: [*phase, *phase_y],
             }),
             ArealSpec::Random(r) => Box::new(RandomArealSurface::generate(r, key, width)),
-            ArealSpec::Heightmap { file } => {
-                let path = if file.is_absolute() {
-                    file.clone()
-                } else {
-                    base.join(file)
-                };
-                Box::new(HeightMap::read(&path, width, &format!("{key}.file"))?)
+            ArealSpec::Heightmap { file, file_sha256 } => {
+                let (path, text) =
+                    crate::surface::read_data_file(key, file, file_sha256.as_deref(), base)?;
+                Box::new(HeightMap::parse(
+                    &text,
+                    &path,
+                    width,
+                    &format!("{key}.file"),
+                )?)
             }
         })
     }
@@ -422,7 +430,11 @@ impl HeightMap {
 
     /// Reads the CSV height map (module documentation); `key` names it in errors.
     pub fn read(path: &Path, width: f64, key: &str) -> Result<Self> {
-        let text = crate::error::read_text(path)?;
+        Self::parse(&crate::error::read_text(path)?, path, width, key)
+    }
+
+    /// Parses the text of [`HeightMap::read`]'s CSV, read from `path`.
+    pub fn parse(text: &str, path: &Path, width: f64, key: &str) -> Result<Self> {
         let mut rows = Vec::new();
         for (ln, line) in text.lines().enumerate() {
             if line.trim().is_empty() {

@@ -16,6 +16,55 @@ pub use areal::{ArealSpec, ArealSurface, HeightMap, RandomArealSurface, Sinusoid
 pub use profile::Profile;
 pub use random::{RandomSpec, RandomSurface, SpectrumKind};
 
+/// The data file of a measured surface (`kind = "profile"` in 2D,
+/// `"heightmap"` in 3D) of the table `key`: `file` resolved against the case
+/// file's directory `base`, and its text. Where the case pins the file's
+/// content by `file_sha256` (a sweep writes the digest into its resolved
+/// configuration, so that its hash, its checkpoints and its table identify
+/// the heights, not only the file's name), a file of another SHA-256 is an
+/// error naming `{key}.file_sha256`.
+pub fn read_data_file(
+    key: &str,
+    file: &Path,
+    pinned: Option<&str>,
+    base: &Path,
+) -> Result<(PathBuf, String)> {
+    let path = if file.is_absolute() {
+        file.to_path_buf()
+    } else {
+        base.join(file)
+    };
+    let text = crate::error::read_text(&path)?;
+    if let Some(pinned) = pinned {
+        let actual = crate::io::hash::sha256_hex(text.as_bytes());
+        if !actual.eq_ignore_ascii_case(pinned) {
+            return Err(Error::invalid(
+                format!("{key}.file_sha256"),
+                pinned,
+                format!(
+                    "the SHA-256 of {}, {actual}: the file has changed since the configuration pinned it (restore the file, or remove the key)",
+                    path.display()
+                ),
+            ));
+        }
+    }
+    Ok((path, text))
+}
+
+/// A `file_sha256` key, where given: 64 hexadecimal digits.
+pub(crate) fn check_sha256_key(key: &str, digest: Option<&str>) -> Result<()> {
+    match digest {
+        Some(d) if d.len() != 64 || !d.bytes().all(|b| b.is_ascii_hexdigit()) => {
+            Err(Error::invalid(
+                format!("{key}.file_sha256"),
+                format!("{d:?}"),
+                "the file's SHA-256 as 64 hexadecimal digits (`sha256sum FILE`), or absent",
+            ))
+        }
+        _ => Ok(()),
+    }
+}
+
 /// A surface height function over `[0, width]`, zero mean, periodic.
 pub trait Surface: Send + Sync {
     /// Height `f(x)` (m) about the mean plane.
@@ -42,6 +91,9 @@ pub enum SurfaceSpec {
     Profile {
         /// Path of the CSV file, relative to the case file.
         file: PathBuf,
+        /// SHA-256 of the file's content ([`read_data_file`]).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        file_sha256: Option<String>,
     },
     /// Gaussian random heights, periodic, seeded (see [`random`]); keys of [`RandomSpec`].
     Random(RandomSpec),
@@ -78,7 +130,10 @@ impl SurfaceSpec {
     /// Checks the parameters against the sample width; `key` names the table (e.g. `surface.upper`).
     pub fn validate(&self, key: &str, width: f64) -> Result<()> {
         match self {
-            SurfaceSpec::Flat | SurfaceSpec::Profile { .. } => Ok(()),
+            SurfaceSpec::Flat => Ok(()),
+            SurfaceSpec::Profile { file_sha256, .. } => {
+                check_sha256_key(key, file_sha256.as_deref())
+            }
             SurfaceSpec::Random(r) => r.validate(key, width),
             SurfaceSpec::Sinusoid {
                 rms,
@@ -136,13 +191,9 @@ impl SurfaceSpec {
                 wavelength: *wavelength,
                 phase: *phase,
             }),
-            SurfaceSpec::Profile { file } => {
-                let path = if file.is_absolute() {
-                    file.clone()
-                } else {
-                    base.join(file)
-                };
-                Box::new(Profile::read(&path, width, &format!("{key}.file"))?)
+            SurfaceSpec::Profile { file, file_sha256 } => {
+                let (path, text) = read_data_file(key, file, file_sha256.as_deref(), base)?;
+                Box::new(Profile::parse(&text, &path, width, &format!("{key}.file"))?)
             }
             SurfaceSpec::Random(r) => Box::new(r.generate(key, width)),
         })

@@ -51,7 +51,11 @@ impl Profile {
 
     /// Reads a CSV file `x,z` (m); an optional header line is skipped.
     pub fn read(path: &Path, width: f64, key: &str) -> Result<Self> {
-        let text = crate::error::read_text(path)?;
+        Self::parse(&crate::error::read_text(path)?, path, width, key)
+    }
+
+    /// Parses the text of [`Profile::read`]'s CSV, read from `path`.
+    pub fn parse(text: &str, path: &Path, width: f64, key: &str) -> Result<Self> {
         let mut xs = Vec::new();
         let mut zs = Vec::new();
         for (ln, line) in text.lines().enumerate() {

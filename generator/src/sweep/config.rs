@@ -310,6 +310,10 @@ impl SweepConfig {
         }
         case.validate()?;
         case.check_conductivity_at(&contact_temperatures)?;
+        // The measured surfaces' content pinned: in the hash, so that
+        // checkpoints, shards and tables of other heights are told apart, and
+        // in every path's case, so that each reads those heights.
+        case.pin_data_files()?;
         let resolved = resolve(&case, &sweep, &pressures, &fluxes, &contact_temperatures)?;
         let sha256 = sha256_hex(resolved.as_bytes());
         Ok(SweepConfig {
@@ -375,6 +379,8 @@ impl SweepConfig {
 /// and the automatic values (`bulk_points`, contact penalties) resolved.
 fn resolved_case_table(case: &Case) -> Result<toml::Table> {
     let mut case = case.clone();
+    // The measured surfaces' files by their content's SHA-256.
+    case.pin_data_files()?;
     // Automatic values made explicit (the values the solver uses): the bulk
     // Gauss points p + 2, the normal penalty factor 1 (εN = E/h), the
     // thermal contact zone (2D on, 3D off unless given). The
@@ -618,5 +624,113 @@ seed = 5
             .unwrap_err()
             .to_string();
         assert!(e.contains("[sweep]"), "{e}");
+    }
+
+    /// A measured surface's file enters the configuration by its content:
+    /// the resolved text pins its SHA-256, the hash changes with the heights
+    /// (not only with the file's name), every path's case carries the digest,
+    /// and a file changed after pinning, or a malformed digest, is an error
+    /// naming `file_sha256`. In 2D (a profile) and 3D (a height map).
+    #[test]
+    fn a_measured_surface_is_hashed_by_its_content() {
+        let dir = tempfile::tempdir().unwrap();
+        let sweep = "[sweep]\npressures = [1.0e3]\nfluxes = 1.0e6\ncontact_temperatures = 293.15\n";
+        let profile = |amplitude: f64| -> String {
+            let mut s = String::from("x,z\n");
+            for i in 0..32 {
+                let x = 1e-5 * i as f64 / 32.0;
+                s += &format!(
+                    "{x:e},{:e}\n",
+                    amplitude * (std::f64::consts::TAU * x / 1e-5).sin()
+                );
+            }
+            s
+        };
+        let map = |amplitude: f64| -> String {
+            (0..8)
+                .map(|j| {
+                    (0..8)
+                        .map(|i| format!("{:e}", amplitude * ((i + 2 * j) as f64 * 0.7).sin()))
+                        .collect::<Vec<_>>()
+                        .join(",")
+                })
+                .collect::<Vec<_>>()
+                .join("\n")
+        };
+        let cases = [
+            ("heights.csv", String::new(), "profile"),
+            (
+                "map.csv",
+                "[sample]\ndimension = 3\n[discretization]\nelements_upper = [4, 4, 2]\nelements_lower = [3, 3, 2]\n".to_string(),
+                "heightmap",
+            ),
+        ];
+        for (file, head, kind) in cases {
+            let write = |a: f64| {
+                let text = if kind == "profile" {
+                    profile(a)
+                } else {
+                    map(a)
+                };
+                std::fs::write(dir.path().join(file), text).unwrap();
+            };
+            let text = format!(
+                "{head}[surface.upper]\nkind = \"{kind}\"\nfile = \"{file}\"\n[surface.lower]\nkind = \"flat\"\n{sweep}"
+            );
+            write(4e-7);
+            let a = SweepConfig::from_toml(&text, dir.path()).unwrap();
+            let digest =
+                crate::io::hash::sha256_hex(&std::fs::read(dir.path().join(file)).unwrap());
+            let resolved: toml::Table = toml::from_str(&a.resolved).unwrap();
+            assert_eq!(
+                resolved["surface"]["upper"]["file_sha256"].as_str(),
+                Some(digest.as_str()),
+                "{kind}"
+            );
+            // The same content, the same hash; the resolved text reads back.
+            assert_eq!(
+                SweepConfig::from_toml(&text, dir.path()).unwrap().sha256,
+                a.sha256
+            );
+            let again = SweepConfig::from_toml(&a.resolved, dir.path()).unwrap();
+            assert_eq!(again.sha256, a.sha256, "{kind}");
+            let mut p = a.path_case(0, 0, 0);
+            assert!(p.pin_data_files().is_ok());
+            // Other heights under the same name: another hash, and the
+            // pinned configurations refuse the file.
+            write(5e-7);
+            let b = SweepConfig::from_toml(&text, dir.path()).unwrap();
+            assert_ne!(b.sha256, a.sha256, "{kind}");
+            for e in [
+                SweepConfig::from_toml(&a.resolved, dir.path()).unwrap_err(),
+                p.pin_data_files().unwrap_err(),
+            ] {
+                let e = e.to_string();
+                assert!(
+                    e.contains("surface.upper.file_sha256") && e.contains("has changed"),
+                    "{kind}: {e}"
+                );
+            }
+            let built = if kind == "profile" {
+                p.surfaces().err()
+            } else {
+                p.areal_surfaces().err()
+            };
+            assert!(
+                built.is_some_and(|e| e.to_string().contains("file_sha256")),
+                "{kind}"
+            );
+            let bad = text.replace(
+                &format!("file = \"{file}\""),
+                &format!("file = \"{file}\"\nfile_sha256 = \"abc\""),
+            );
+            let e = SweepConfig::from_toml(&bad, dir.path())
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains("file_sha256") && e.contains("64 hexadecimal"),
+                "{kind}: {e}"
+            );
+        }
     }
 }

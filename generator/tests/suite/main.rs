@@ -28,6 +28,7 @@ mod independent_bem;
 mod independent_bem_3d;
 mod linalg_assembly;
 mod linalg_solver;
+mod measured_surface;
 mod micro_sample;
 mod periodic_seams;
 mod sweep_cli;

@@ -3,6 +3,8 @@
 //! with keys of the other dimension refused by name) and the element counts
 //! ([`ElementCounts`]: `[nx, nz]` or `[nx, ny, nz]`).
 
+use std::path::Path;
+
 use serde::{Deserialize, Serialize};
 
 use crate::surface::{ArealSpec, RandomSpec, SurfaceSpec};
@@ -65,6 +67,18 @@ impl BodySurface {
         match self {
             BodySurface::Profile(SurfaceSpec::Random(r))
             | BodySurface::Areal(ArealSpec::Random(r)) => Some(r),
+            _ => None,
+        }
+    }
+
+    /// The data file of a measured surface (`kind = "profile"` or
+    /// `"heightmap"`) and its pinned SHA-256 (`file_sha256`).
+    pub fn data_file_mut(&mut self) -> Option<(&Path, &mut Option<String>)> {
+        match self {
+            BodySurface::Profile(SurfaceSpec::Profile { file, file_sha256 })
+            | BodySurface::Areal(ArealSpec::Heightmap { file, file_sha256 }) => {
+                Some((file.as_path(), file_sha256))
+            }
             _ => None,
         }
     }

@@ -1,0 +1,86 @@
+//! A measured surface (`kind = "heightmap"`) end to end: the example of
+//! `tables/heightmap_example.toml` is a sample of `tables/nightly_random_3d.toml`
+//! written as a height map, so that both inputs must give the same jumps.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use tcgen::homogenize::solve_case;
+use tcgen::sample::Case;
+use tcgen::sample::case::Method;
+use tcgen::sweep::SweepConfig;
+
+fn tables() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../tables")
+}
+
+/// The committed map is what its header's command writes: sample 0 of the
+/// nightly random surface on a 32 × 32 grid (`tcgen surface --exact`).
+#[test]
+fn the_example_height_map_is_the_nightly_random_sample() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("map.csv");
+    let o = Command::new(env!("CARGO_BIN_EXE_tcgen"))
+        .args(["surface", "--exact", "--points", "32", "-o"])
+        .arg(&out)
+        .arg(tables().join("nightly_random_3d.toml"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let written = std::fs::read(&out).unwrap();
+    let committed = std::fs::read(tables().join("heightmap_example.csv")).unwrap();
+    assert!(
+        written == committed,
+        "tables/heightmap_example.csv is not the nightly surface's sample 0"
+    );
+}
+
+/// The height map and the random surface it samples give the same jump and
+/// contact fraction, on the case mesh and on two refined levels, which
+/// resolve their faces on the surfaces themselves. The fits collocate at
+/// the elements' mid-points (p = 2): on the case mesh and level 1 (elements
+/// of W/8 and W/16) nodes of the 32 × 32 map, where its bicubic spline
+/// interpolates the heights; on level 2 (W/32) mid-way between them, where
+/// the spline stands for the surface. Plain two-phase at 3.162 kPa. On the
+/// case mesh, the map with its columns shifted by one node, its rows
+/// reversed or its heights negated gives jumps 16, 19 and 62 % off (a
+/// transposed map is the cell's mirror image: the same jump; docs/3d.md,
+/// "Stop 104").
+#[test]
+fn a_height_map_gives_the_jump_of_the_surface_it_samples() {
+    let case = |file: &str, adaptive: bool| -> Case {
+        let mut c = SweepConfig::read(&tables().join(file))
+            .unwrap()
+            .path_case(0, 0, 0);
+        c.homogenization.method = Method::TwoPhase;
+        c.load.pressures = vec![3.162e3];
+        let d = &mut c.discretization;
+        d.target_error = adaptive.then_some(0.01);
+        d.max_levels = 2;
+        c
+    };
+    for adaptive in [false, true] {
+        let solve = |file| {
+            let r = solve_case(&case(file, adaptive), None, |_| {}).unwrap();
+            assert!(r[0].converged, "{file}");
+            (r[0].jump, r[0].interface.contact_fraction, r[0].levels)
+        };
+        let map = solve("heightmap_example.toml");
+        let random = solve("nightly_random_3d.toml");
+        println!("adaptive {adaptive}: height map {map:?}, random surface {random:?}");
+        assert_eq!(map.2, random.2);
+        assert_eq!(map.2, if adaptive { [2, 2] } else { [0, 0] });
+        assert!(
+            ((map.0 - random.0) / random.0).abs() < 1e-4,
+            "adaptive {adaptive}: jumps {} and {} K",
+            map.0,
+            random.0
+        );
+        assert!(
+            (map.1 - random.1).abs() < 2e-4 * random.1,
+            "adaptive {adaptive}: contact fractions {} and {}",
+            map.1,
+            random.1
+        );
+    }
+}
