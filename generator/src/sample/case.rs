@@ -792,6 +792,56 @@ impl Case {
                 );
             }
         }
+        out.extend(self.seam_cautions());
+        out
+    }
+
+    /// A measured surface (a 2D profile, a 3D height map) that is not
+    /// periodic: its heights step across the cell's edges by more than
+    /// [`SeamSteps::RATIO`](crate::surface::SeamSteps::RATIO) times their
+    /// steps inside ([`crate::surface::SeamSteps`]). A file that cannot be
+    /// read is left to [`Case::validate`].
+    fn seam_cautions(&self) -> Vec<String> {
+        let w = self.sample.width;
+        let mut out = Vec::new();
+        for (key, spec) in [
+            ("surface.upper", &self.surface.upper),
+            ("surface.lower", &self.surface.lower),
+        ] {
+            let Some((file, pinned)) = spec.data_file() else {
+                continue;
+            };
+            let Ok((path, text)) =
+                crate::surface::read_data_file(key, file, pinned, &self.base_dir)
+            else {
+                continue;
+            };
+            let seams = match spec {
+                BodySurface::Profile(_) => crate::surface::Profile::parse(&text, &path, w, key)
+                    .map(|p| vec![("x = W", p.seam_steps())]),
+                BodySurface::Areal(_) => crate::surface::HeightMap::parse(&text, &path, w, key)
+                    .map(|m| {
+                        let [x, y] = m.seam_steps();
+                        vec![("x = W", x), ("y = W", y)]
+                    }),
+            }
+            .unwrap_or_default();
+            for (seam, s) in seams.into_iter().filter(|(_, s)| !s.is_periodic()) {
+                let times = if s.inside > 0.0 {
+                    format!("{:.1} times", s.across / s.inside)
+                } else {
+                    "more than".into()
+                };
+                out.push(format!(
+                    "{key}.file is not periodic across its seam at {seam}: its heights step there \
+                     by {:.3e} m RMS, {times} their steps between neighbouring points inside \
+                     ({:.3e} m), so the periodic cell has a ridge or trench along that edge that \
+                     is not in the surface, where contact may start; make the data periodic \
+                     before use (e.g. mirror it, or taper it to a common edge)",
+                    s.across, s.inside
+                ));
+            }
+        }
         out
     }
 

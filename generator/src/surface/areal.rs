@@ -313,6 +313,8 @@ pub struct HeightMap {
     pub removed_mean: f64,
     /// The largest `|height|` of the data, mean removed (m).
     largest: f64,
+    /// The steps across the seams at `x = W` and `y = W` and inside.
+    seams: [crate::surface::SeamSteps; 2],
 }
 
 /// Solves the circulant system `(c_{i−1} + 4 c_i + c_{i+1})/6 = f_i` (periodic
@@ -404,6 +406,10 @@ impl HeightMap {
                 format!("heights smaller than the cell width {width:e} m (are the units metres?)"),
             ));
         }
+        let seams = [
+            crate::surface::SeamSteps::of(ny, nx, |j, i| z[j * nx + i]),
+            crate::surface::SeamSteps::of(nx, ny, |i, j| z[j * nx + i]),
+        ];
         // Tensor-product interpolation: along x per row, then along y per column.
         for row in z.chunks_mut(nx) {
             periodic_cubic_coefficients(row);
@@ -425,6 +431,7 @@ impl HeightMap {
             coef: z,
             removed_mean: mean,
             largest: hi.max(-lo),
+            seams,
         })
     }
 
@@ -454,6 +461,12 @@ impl HeightMap {
             }
         }
         HeightMap::from_grid(rows, width, &format!("{key} ({})", path.display()))
+    }
+
+    /// The steps across the seams at `x = W` (the rows) and `y = W` (the
+    /// columns), each against the steps inside along the same direction.
+    pub fn seam_steps(&self) -> [crate::surface::SeamSteps; 2] {
+        self.seams
     }
 
     /// Grid size `(n_x, n_y)`.

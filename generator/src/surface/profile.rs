@@ -49,6 +49,11 @@ impl Profile {
         })
     }
 
+    /// The steps across the periodic seam and between the samples inside.
+    pub fn seam_steps(&self) -> crate::surface::SeamSteps {
+        crate::surface::SeamSteps::of(1, self.z.len(), |_, k| self.z[k])
+    }
+
     /// Reads a CSV file `x,z` (m); an optional header line is skipped.
     pub fn read(path: &Path, width: f64, key: &str) -> Result<Self> {
         Self::parse(&crate::error::read_text(path)?, path, width, key)

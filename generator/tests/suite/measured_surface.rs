@@ -84,3 +84,65 @@ fn a_height_map_gives_the_jump_of_the_surface_it_samples() {
         );
     }
 }
+
+/// A measured surface that is not periodic (a crop of a larger scan) steps
+/// across the cell's edges: `tcgen check`, `solve` and `sweep` caution, naming
+/// the file and the seam; a periodic map or profile gets no such caution.
+/// 3D: the example map and its 24 × 24 corner (stepping across its seams by
+/// 9.6 and 7.6 times its steps inside); 2D: a sine profile and the same with
+/// a ramp.
+#[test]
+fn a_measured_surface_that_is_not_periodic_is_cautioned() {
+    let dir = tempfile::tempdir().unwrap();
+    let seam_cautions = |text: &str| -> Vec<String> {
+        Case::from_toml(text, dir.path())
+            .unwrap()
+            .cautions()
+            .into_iter()
+            .filter(|c| c.contains("not periodic across its seam"))
+            .collect()
+    };
+    let map = std::fs::read_to_string(tables().join("heightmap_example.csv")).unwrap();
+    let corner: Vec<String> = map
+        .lines()
+        .take(24)
+        .map(|l| l.split(',').take(24).collect::<Vec<_>>().join(","))
+        .collect();
+    std::fs::write(dir.path().join("map.csv"), &map).unwrap();
+    std::fs::write(dir.path().join("corner.csv"), corner.join("\n")).unwrap();
+    let areal = |file: &str| {
+        format!(
+            "[sample]\ndimension = 3\n[surface.upper]\nkind = \"heightmap\"\nfile = \"{file}\"\n\
+             [surface.lower]\nkind = \"flat\"\n[discretization]\nelements_upper = [8, 8, 4]\n\
+             elements_lower = [7, 7, 4]\n"
+        )
+    };
+    assert!(seam_cautions(&areal("map.csv")).is_empty());
+    let c = seam_cautions(&areal("corner.csv"));
+    assert_eq!(c.len(), 2, "{c:?}");
+    assert!(
+        c[0].starts_with("surface.upper.file") && c[0].contains("x = W"),
+        "{c:?}"
+    );
+    assert!(
+        c[1].contains("y = W") && c[1].contains("7.6 times"),
+        "{c:?}"
+    );
+    let w = 1.0e-5;
+    for (ramp, cautioned) in [(0.0, false), (1.0e-6, true)] {
+        let mut csv = String::from("x,z\n");
+        for i in 0..64 {
+            let x = w * i as f64 / 64.0;
+            let z = 2.0e-7 * (std::f64::consts::TAU * x / w).sin() + ramp * x / w;
+            csv += &format!("{x:e},{z:e}\n");
+        }
+        std::fs::write(dir.path().join("profile.csv"), csv).unwrap();
+        let c = seam_cautions(
+            "[surface.upper]\nkind = \"flat\"\n[surface.lower]\nkind = \"profile\"\nfile = \"profile.csv\"\n",
+        );
+        assert_eq!(c.len(), usize::from(cautioned), "ramp {ramp}: {c:?}");
+        if cautioned {
+            assert!(c[0].starts_with("surface.lower.file") && c[0].contains("x = W"));
+        }
+    }
+}

@@ -73,6 +73,17 @@ impl BodySurface {
 
     /// The data file of a measured surface (`kind = "profile"` or
     /// `"heightmap"`) and its pinned SHA-256 (`file_sha256`).
+    pub fn data_file(&self) -> Option<(&Path, Option<&str>)> {
+        match self {
+            BodySurface::Profile(SurfaceSpec::Profile { file, file_sha256 })
+            | BodySurface::Areal(ArealSpec::Heightmap { file, file_sha256 }) => {
+                Some((file.as_path(), file_sha256.as_deref()))
+            }
+            _ => None,
+        }
+    }
+
+    /// [`BodySurface::data_file`], its digest mutable.
     pub fn data_file_mut(&mut self) -> Option<(&Path, &mut Option<String>)> {
         match self {
             BodySurface::Profile(SurfaceSpec::Profile { file, file_sha256 })
