@@ -837,7 +837,8 @@ impl Case {
                      by {:.3e} m RMS, {times} their steps between neighbouring points inside \
                      ({:.3e} m), so the periodic cell has a ridge or trench along that edge that \
                      is not in the surface, where contact may start; make the data periodic \
-                     before use (e.g. mirror it, or taper it to a common edge)",
+                     before use (a tilted scan: subtract its best-fit plane; a crop: mirror it, \
+                     or taper it to a common edge)",
                     s.across, s.inside
                 ));
             }

@@ -88,9 +88,9 @@ fn a_height_map_gives_the_jump_of_the_surface_it_samples() {
 /// A measured surface that is not periodic (a crop of a larger scan) steps
 /// across the cell's edges: `tcgen check`, `solve` and `sweep` caution, naming
 /// the file and the seam; a periodic map or profile gets no such caution.
-/// 3D: the example map and its 24 × 24 corner (stepping across its seams by
-/// 9.6 and 7.6 times its steps inside); 2D: a sine profile and the same with
-/// a ramp.
+/// 3D: the example map, its 24 × 24 corner (stepping across its seams by
+/// 9.6 and 7.6 times its steps inside) and the map tilted along x; 2D: a
+/// sine profile and the same with a ramp.
 #[test]
 fn a_measured_surface_that_is_not_periodic_is_cautioned() {
     let dir = tempfile::tempdir().unwrap();
@@ -126,6 +126,27 @@ fn a_measured_surface_that_is_not_periodic_is_cautioned() {
     );
     assert!(
         c[1].contains("y = W") && c[1].contains("7.6 times"),
+        "{c:?}"
+    );
+    // The periodic map tilted by 0.5 μm across the cell in x (a scan whose
+    // plane was not removed): its seam at x = W steps, the other not.
+    let tilted: Vec<String> = map
+        .lines()
+        .map(|l| {
+            let row: Vec<f64> = l.split(',').map(|v| v.parse().unwrap()).collect();
+            let n = row.len() as f64;
+            row.iter()
+                .enumerate()
+                .map(|(i, z)| format!("{:e}", z + 5.0e-7 * i as f64 / n))
+                .collect::<Vec<_>>()
+                .join(",")
+        })
+        .collect();
+    std::fs::write(dir.path().join("tilted.csv"), tilted.join("\n")).unwrap();
+    let c = seam_cautions(&areal("tilted.csv"));
+    assert_eq!(c.len(), 1, "{c:?}");
+    assert!(
+        c[0].contains("x = W") && c[0].contains("best-fit plane"),
         "{c:?}"
     );
     let w = 1.0e-5;
