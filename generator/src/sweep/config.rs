@@ -379,7 +379,9 @@ impl SweepConfig {
 /// and the automatic values (`bulk_points`, contact penalties) resolved.
 fn resolved_case_table(case: &Case) -> Result<toml::Table> {
     let mut case = case.clone();
-    // The measured surfaces' files by their content's SHA-256.
+    // The measured surfaces' files by their content's SHA-256 (a sweep's
+    // case is pinned already: its digests are verified against the files
+    // again; a case file's are written here).
     case.pin_data_files()?;
     // Automatic values made explicit (the values the solver uses): the bulk
     // Gauss points p + 2, the normal penalty factor 1 (εN = E/h), the
