@@ -48,7 +48,8 @@ enum Command {
         vtk: Option<std::path::PathBuf>,
         /// Print no progress of the adaptive levels (by default, on standard
         /// error, each level that took a second or more: pressure, level,
-        /// unknowns, jump and its estimate, time, peak memory).
+        /// unknowns, jump and its estimate, time, how it was solved where
+        /// its carried-over state did not converge, peak memory).
         #[arg(long)]
         quiet: bool,
     },

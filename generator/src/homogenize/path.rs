@@ -228,6 +228,11 @@ pub struct LevelReport {
     /// `refinement_stop` gives in parentheses should the refinement then
     /// stop without meeting the target).
     pub goes_on: Option<String>,
+    /// How the level was solved where Newton from the state carried over
+    /// from the previous level did not converge: again from the
+    /// configuration the previous level solved, or from rest along the
+    /// pressure path (either costs a solve or a path more).
+    pub started: Option<String>,
 }
 
 /// A function that sees every [`LevelReport`]; shared by the points that run
@@ -236,7 +241,9 @@ pub type LevelObserver = Arc<dyn Fn(&LevelReport) + Send + Sync>;
 
 impl std::fmt::Display for LevelReport {
     /// `"3.000e4 Pa: level 2/4, 13164 unknowns, two-phase jump 2.91200 K ± 14.00 %
-    /// (target 1.00 %), 21.3 s, peak memory 1.4 GB"`: the jump is the plain
+    /// (target 1.00 %), 21.3 s, peak memory 1.4 GB"` (after the seconds, how
+    /// the level was solved where its carried-over state failed, e.g.
+    /// `"(solved again from rest (…))"`): the jump is the plain
     /// two-phase one the estimate is made on, which the self-consistent
     /// iteration then corrects; the memory is the process's peak so far.
     /// Then `"; stop: …"` where the refinement stops, or `"; goes on: …"`
@@ -256,6 +263,9 @@ impl std::fmt::Display for LevelReport {
             )?;
         }
         write!(f, ", {:.1} s", self.seconds)?;
+        if let Some(how) = &self.started {
+            write!(f, " ({how})")?;
+        }
         if let Some(bytes) = self.peak_memory {
             write!(f, ", peak memory {}", format_bytes(bytes as f64))?;
         }
@@ -795,6 +805,7 @@ impl<'a> PathSolver<'a> {
                 peak_memory: process_memory("VmHWM:"),
                 stop,
                 goes_on: None,
+                started: None,
             };
             // `src` is prepared at its solved state: by `fitted` above (the
             // case mesh) or below (the previous level).
@@ -872,6 +883,8 @@ impl<'a> PathSolver<'a> {
             let built = clock.elapsed().as_secs_f64();
             let solved = next.solve_fluxes_on_mesh(pressure, fluxes, true, None);
             self.absorb_cost(&mut next);
+            // How the level was solved where its carried-over state failed.
+            let mut started = None;
             let solved = match solved {
                 Ok(r) if r.iter().all(|r| r.converged) => Ok(r),
                 // The carried-over state is a near-solution where the refined
@@ -908,7 +921,17 @@ impl<'a> PathSolver<'a> {
                         let result = again.solve_fluxes_on_mesh(pressure, fluxes, true, None);
                         self.absorb_cost(&mut again);
                         match result {
-                            Ok(r) if r.iter().all(|r| r.converged) => break Ok(r),
+                            Ok(r) if r.iter().all(|r| r.converged) => {
+                                started = Some(match attempts.len() {
+                                    0 => format!(
+                                        "solved again from the configuration solved ({reason} from the carried-over state)"
+                                    ),
+                                    _ => format!(
+                                        "solved again from rest ({reason} from the carried-over state; the configuration solved did not converge)"
+                                    ),
+                                });
+                                break Ok(r);
+                            }
                             other => attempts.push(failure_reason(other)),
                         }
                         if attempts.len() == 2 {
@@ -1079,6 +1102,7 @@ impl<'a> PathSolver<'a> {
                 let goes_on = withheld.clone().filter(|_| stop.is_none());
                 LevelReport {
                     goes_on,
+                    started: started.clone(),
                     ..level_report(best[0].dofs, Some(jump), stop)
                 }
             });

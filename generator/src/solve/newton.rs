@@ -838,6 +838,10 @@ impl Newton {
         let mut targets: Option<Vec<f64>> = None;
         let mut previous_total: Option<f64> = None;
         let mut cycle_searches = 0;
+        // Whether an increment that raised the residual has been searched
+        // along ([`RISE_SEARCH_FACTOR`]; once per solve), and whether the
+        // damped iterations follow from it (not from a cycle of two).
+        let (mut rise_searched, mut rise_damped) = (false, false);
         let names: Vec<&str> = p.field_names().to_vec();
         // Increments shortened so far ([`UNEVALUABLE_HALVINGS`]): a solve that
         // then fails says so first, as one that starts from a state it cannot
@@ -878,6 +882,8 @@ impl Newton {
         let mut smallest = (f64::INFINITY, 0);
         // Whether the next increment is taken without the contact's curvature.
         let mut flat_next = false;
+        // The merit of the iterate the last increment was taken from.
+        let mut previous_merit = f64::INFINITY;
         for it in 0..=self.settings.max_iterations {
             if increments.is_some_and(|m| it >= m) {
                 return Ok((history, false));
@@ -977,6 +983,55 @@ impl Newton {
             // convergence (left to load stepping's cut-back), the iterations
             // end.
             let merit = residual_merit(&norms, targets);
+            // An increment at a constant load whose end raises the merit
+            // [`RISE_SEARCH_FACTOR`]-fold above the iterate it was taken from
+            // (after the solve's first, from more than a decade above the
+            // tolerance) is searched along from that iterate instead, and
+            // the later iterations are damped, as after a cycle of two:
+            // semi-smooth iterates that overshoot into another active set
+            // wander among such sets (a steep height map's refined level,
+            // docs/3d.md, "Stop 105").
+            if let Some(t) = taken.as_ref().filter(|t| !t.first)
+                && !rise_searched
+                && cycle_searches == 0
+                && previous_merit > CYCLE_SEARCH_MERIT
+                && merit > RISE_SEARCH_FACTOR * previous_merit
+            {
+                let dx = t.taken_step();
+                let from = t.from.clone();
+                p.restore(&from);
+                p.after_update();
+                let (s, found) = cycle_line_search(p, &dx, targets, None)?;
+                if trace {
+                    eprintln!(
+                        "  step {step} λ={load_factor:.4} it {it}: the residual rose {:.1}-fold to {merit:.3e} of its tolerance; line search from {previous_merit:.3e}: step {s:.4}, residual {found:.3e}",
+                        merit / previous_merit
+                    );
+                }
+                if found >= previous_merit {
+                    return Err(fail(
+                        it,
+                        format!(
+                            "the residual rose {:.1}-fold over an increment, and no smaller one along it; residuals {}",
+                            merit / previous_merit,
+                            residual_detail(&names, &norms, targets)
+                        ),
+                    ));
+                }
+                let mut scaled = vec![0.0; dx.len()];
+                step_from(p, &from, &dx, s, &mut scaled);
+                taken = Some(TakenIncrement {
+                    from,
+                    increment: scaled,
+                    halvings: 0,
+                    first: false,
+                });
+                cycle_searches = 1;
+                (rise_searched, rise_damped) = (true, true);
+                previous_merit = found;
+                continue;
+            }
+            previous_merit = merit;
             // A solve that shortened increments ends where its residual has not
             // come below its smallest for SHORTENED_STAGNATION iterations.
             if merit < smallest.0 {
@@ -1144,11 +1199,19 @@ impl Newton {
                         if cycle.is_some() {
                             "a cycle of two"
                         } else {
-                            "damped after a cycle"
+                            "damped"
                         }
                     );
                 }
-                if found >= merit {
+                if found < merit {
+                    r.iter_mut().for_each(|v| *v *= t);
+                } else if cycle.is_none() && rise_damped {
+                    // Damped after a rise, no smaller residual along this
+                    // increment (a kink of the semi-smooth residual): the
+                    // full increment is taken, and the iterations go on
+                    // undamped.
+                    (rise_damped, cycle_searches) = (false, 0);
+                } else {
                     let why = " and no smaller residual along the increment".to_string();
                     return Err(fail(
                         it,
@@ -1161,7 +1224,6 @@ impl Newton {
                         },
                     ));
                 }
-                r.iter_mut().for_each(|v| *v *= t);
             }
             if std::mem::take(&mut flat_next) {
                 p.set_contact_curvature(true);
@@ -1288,6 +1350,28 @@ fn residual_cycle(history: &[IterationRecord]) -> Option<&[f64]> {
     (same(a, c) && same(b, d)).then_some(c.residuals.as_slice())
 }
 
+/// The factor by which an increment at a constant load may raise the
+/// residual merit ([`residual_merit`]) above the iterate it was taken from
+/// before it is searched along instead ([`cycle_line_search`]; once per
+/// solve), and the later iterations are damped; not the solve's first
+/// increment (where a new level's or input's active set settles), nor one
+/// taken within [`CYCLE_SEARCH_MERIT`] of the tolerance (kinks of the
+/// semi-smooth residual, left to the cycle's search). Where a damped
+/// iteration then finds no smaller residual along its increment, the full
+/// increment is taken and the iterations go on undamped. Measured
+/// (docs/3d.md, "Stop 105"): a steep height map's first level at 30 kPa,
+/// whose Newton from the carried-over state wandered among active sets of
+/// 251–259 nodes at 45–630 times its tolerance (a 12.3-fold rise at its
+/// eighth increment) until it gave up and the level was solved again from
+/// rest (613 s), converges five iterations after the search, to the same
+/// jump (104 s). On the egg box's benchmark path the rises of 2.1–4.4-fold
+/// are at first increments; searching them and damping the rest took the
+/// same time to the same jumps, while searching later rises wherever they
+/// started, and failing where a damped iteration found nothing smaller,
+/// failed a level that Newton converges (6.25 kPa's third, at 1.09 times
+/// its tolerance).
+const RISE_SEARCH_FACTOR: f64 = 2.0;
+
 /// Line searches along a Newton increment that one solve may take where its
 /// iterates cycle between two states ([`residual_cycle`]).
 const CYCLE_LINE_SEARCHES: usize = 4;
@@ -1330,6 +1414,12 @@ struct TakenIncrement {
 }
 
 impl TakenIncrement {
+    /// The step taken: the increment, shortened by its halvings.
+    fn taken_step(&self) -> Vec<f64> {
+        let t = 0.5f64.powi(self.halvings as i32);
+        self.increment.iter().map(|d| t * d).collect()
+    }
+
     /// Takes half of the last step along the increment instead, from the
     /// same state.
     fn halve<P: NonlinearProblem + ?Sized>(&mut self, p: &mut P) {
@@ -1663,6 +1753,64 @@ mod tests {
         match x > 0.0 {
             true => (1.0 + 0.5 * x.sin(), 0.5 * x.cos()),
             false => (f64::NAN, f64::NAN),
+        }
+    }
+
+    /// `R(x) = 10 x` for `|x| ≤ 1`, `10 + (x − 1)/10` beyond it on the
+    /// positive side and `−10 + (x + 1)` on the negative (root 0): a stiff
+    /// branch at the root between a soft one and a steeper one, semi-smooth
+    /// as a contact node's residual across a change of its active set. From
+    /// `x = −3` Newton's first increment lands on the soft branch at `x = 9`
+    /// (residual 10.8 against 12), the second overshoots to `x = −99`
+    /// (−108: a tenfold rise), and the third returns to 9: a cycle of two far
+    /// from the root.
+    fn overshoot(x: f64, _: f64) -> (f64, f64) {
+        if x.abs() <= 1.0 {
+            (10.0 * x, 10.0)
+        } else if x > 0.0 {
+            (10.0 + 0.1 * (x - 1.0), 0.1)
+        } else {
+            (-10.0 + (x + 1.0), 1.0)
+        }
+    }
+
+    /// An increment at a constant load (after the solve's first, from an
+    /// iterate more than [`CYCLE_SEARCH_MERIT`] above its tolerance) whose
+    /// end raises the residual more than [`RISE_SEARCH_FACTOR`]-fold is
+    /// searched along instead, and the damped iterations after it converge
+    /// where Newton's cycle; where the load varies (load stepping cuts
+    /// back), or the rise starts near the tolerance, the iterations fail as
+    /// before.
+    #[test]
+    fn a_rise_of_the_residual_at_a_constant_load_is_searched_along() {
+        let settings = NewtonSettings {
+            relative_tolerance: 1e-10,
+            ..NewtonSettings::default()
+        };
+        let mut p = Scalar::new(-3.0, true, overshoot);
+        let mut newton = Newton::new(settings.clone(), LoadStepping::default());
+        p.set_load(1.0);
+        let history = newton.iterate(&mut p, 0, 1.0).unwrap();
+        assert!(p.x.abs() < 1e-9, "{}", p.x);
+        // −3, 9, −99 (searched along from 9), then near the root and on it.
+        assert!(history.len() <= 6, "{} iterations", history.len());
+        // Where the load varies, and where the rise starts within a decade
+        // of the tolerance (0.1 of the first residual, 12: 10.8 at `x = 9`
+        // is 9 times it), Newton cycles as before.
+        let near = NewtonSettings {
+            relative_tolerance: 0.1,
+            ..settings.clone()
+        };
+        for (constant, settings) in [(false, settings), (true, near)] {
+            let mut p = Scalar::new(-3.0, constant, overshoot);
+            let mut newton = Newton::new(settings, LoadStepping::default());
+            p.set_load(1.0);
+            match newton.iterate(&mut p, 0, 1.0) {
+                Err(Error::NewtonDiverged { reason, .. }) => {
+                    assert!(reason.contains("a cycle of two"), "{reason}")
+                }
+                other => panic!("expected a cycle, got {other:?}"),
+            }
         }
     }
 
