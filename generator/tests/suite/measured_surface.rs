@@ -4,7 +4,6 @@
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
-
 use std::sync::{Arc, Mutex};
 
 use tcgen::homogenize::{LevelObserver, LevelReport, solve_case, solve_case_observed};
