@@ -1389,77 +1389,82 @@ impl ContactInterface {
 
     /// Whether the current projections stay within the coupling band of the
     /// pattern; if not, widens the band and returns `true` (pattern changed).
+    ///
+    /// A node that sees master elements outside its band gets the master
+    /// elements its points see now with their neighbours (`p + 1` elements on
+    /// either side on 2D curves, the touching elements on 3D surfaces,
+    /// [`touching_elements`]); where its band would then exceed
+    /// [`BAND_RENEWAL_FACTOR`] times those, they replace it. Where that changes
+    /// the pattern, every node's band over that bound is renewed so.
+    ///
+    /// Bounded: a node's contact block is dense in its band (the augmented
+    /// Lagrangian's `εN G Gᵀ / A`), and a band that kept every element an
+    /// iterate's points had seen held the far projections of a level's first
+    /// increments for good (the steep height map's second level at 30 kPa:
+    /// 3.5e9 block entries, where the bands of the converging iterates'
+    /// projections take 0.48e9; docs/3d.md, "Stop 106"). Widened within the
+    /// bound: renewed every time, bands whose points move to and fro across
+    /// an element boundary changed the pattern at every iteration.
     pub fn update_band(&mut self) -> bool {
-        if self.dim == 3 {
-            return self.update_band_3d();
+        let out: Vec<bool> = (0..self.n_slave()).map(|i| self.outgrown(i)).collect();
+        if !out.contains(&true) {
+            return false;
         }
-        let n_el = self.master_face.n_elements() as i64;
-        let widen = self.master_face.knots()[0].degree() as i64 + 1;
-        let mut changed = false;
-        for i in 0..self.n_slave() {
-            if let Some(seen) = self.outgrown(i) {
-                changed |= self.coupled[i];
-                // The master elements the node's points see, and p + 1 elements
-                // on either side (across the seam for periodic masters).
-                for e in seen {
-                    for k in e as i64 - widen..=e as i64 + widen {
-                        let f = match self.period {
-                            Some(_) => k.rem_euclid(n_el),
-                            None if (0..n_el).contains(&k) => k,
-                            None => continue,
-                        };
-                        self.band[i].extend(&self.master_face.elements()[f as usize].functions);
-                    }
-                }
+        let changed = (0..self.n_slave()).any(|i| out[i] && self.coupled[i]);
+        if self.dim == 3 && self.touching.is_none() {
+            let periodic = self.period.is_some();
+            self.touching = Some(touching_elements(&self.master_face, periodic));
+        }
+        for i in (0..self.n_slave()).filter(|&i| changed || out[i]) {
+            let fresh = self.fresh_band(i);
+            let bound = BAND_RENEWAL_FACTOR * fresh.len();
+            if out[i] && self.band[i].union(&fresh).count() <= bound {
+                self.band[i].extend(fresh);
+            } else if out[i] || self.band[i].len() > bound {
+                self.band[i] = fresh;
             }
         }
         changed
     }
 
-    /// The master elements that slave node `i`'s points see, if they need
-    /// master functions outside its band.
-    fn outgrown(&self, i: usize) -> Option<BTreeSet<usize>> {
-        let need: BTreeSet<usize> = self.node_points[i]
+    /// The master functions of the elements that slave node `i`'s points see
+    /// and of their neighbours: on 2D curves `p + 1` elements on either side
+    /// (across the seam for periodic masters); on 3D surfaces the elements
+    /// touching them in the parameter plane ([`touching_elements`], across
+    /// the seams of a periodic master). In 3D the band grows with its area,
+    /// and wider margins made the contact blocks dominate the sparse pattern
+    /// (egg box at 100 kPa, two adaptive levels: one element width 47 M
+    /// element-block entries against 23 M in the bulk, touching elements
+    /// 28 M; `p + 1`, as on 2D curves, more still).
+    fn fresh_band(&self, i: usize) -> BTreeSet<usize> {
+        let els = self.master_face.elements();
+        let seen = self.node_points[i]
             .iter()
-            .flat_map(|&q| self.state[q].master.iter().copied())
-            .collect();
-        (!need.is_subset(&self.band[i])).then(|| {
-            self.node_points[i]
-                .iter()
-                .map(|&q| self.state[q].master_element())
-                .collect()
-        })
+            .map(|&q| self.state[q].master_element());
+        if let Some(touching) = &self.touching {
+            return seen
+                .flat_map(|e| touching[e].iter())
+                .flat_map(|&f| els[f].functions.iter().copied())
+                .collect();
+        }
+        let n_el = els.len() as i64;
+        let widen = self.master_face.knots()[0].degree() as i64 + 1;
+        let period = self.period;
+        seen.flat_map(|e| e as i64 - widen..=e as i64 + widen)
+            .filter_map(|k| match period {
+                Some(_) => Some(k.rem_euclid(n_el)),
+                None => (0..n_el).contains(&k).then_some(k),
+            })
+            .flat_map(|f| els[f as usize].functions.iter().copied())
+            .collect()
     }
 
-    /// [`ContactInterface::update_band`] in 3D: a node that sees master
-    /// elements outside its band gets them and the master elements touching
-    /// them in the parameter plane (across the seams of a periodic master).
-    fn update_band_3d(&mut self) -> bool {
-        let face = Arc::clone(&self.master_face);
-        // The touching elements only: in 3D the band grows with its area,
-        // and wider margins made the contact blocks dominate the sparse
-        // pattern (egg box at 100 kPa, two adaptive levels: one element
-        // width 47 M element-block entries against 23 M in the bulk,
-        // touching elements 28 M; p + 1, as on 2D curves, more still); a
-        // projection leaving the band widens it (a new pattern).
-        let els = face.elements();
-        let periodic = self.period.is_some();
-        let mut changed = false;
-        for i in 0..self.n_slave() {
-            let Some(seen) = self.outgrown(i) else {
-                continue;
-            };
-            changed |= self.coupled[i];
-            let touching = self
-                .touching
-                .get_or_insert_with(|| touching_elements(&face, periodic));
-            for e in seen {
-                for &f in &touching[e] {
-                    self.band[i].extend(&els[f].functions);
-                }
-            }
-        }
-        changed
+    /// Whether slave node `i`'s points need master functions outside its band.
+    fn outgrown(&self, i: usize) -> bool {
+        self.node_points[i]
+            .iter()
+            .flat_map(|&q| self.state[q].master.iter())
+            .any(|f| !self.band[i].contains(f))
     }
 
     /// Adds the nodes in contact and their neighbours (the slave nodes
@@ -1501,9 +1506,10 @@ impl ContactInterface {
     /// Empties the coupling band and the coupled nodes, which the next preparation widens to
     /// what the state then needs ([`ContactInterface::update_band`],
     /// [`ContactInterface::cover_active`]); `true` if they held anything. After a load step
-    /// is cut back: its failed iterates may have projected far off, and the band only grows
-    /// (a node's contact block is dense in the band, so its entries grow with its square: from
-    /// rest, the degree-1 egg box's fifth level reached 42–46 M entries against 21 M from its
+    /// is cut back: its failed iterates may have projected far off, and a band is renewed only
+    /// once it exceeds [`BAND_RENEWAL_FACTOR`] times what its node needs, at a change of the
+    /// pattern (a node's contact block is dense in the band, so its entries grow with its
+    /// square: from rest, the degree-1 egg box's fifth level reached 42–46 M entries against 21 M from its
     /// carried-over state at the same load; docs/3d.md, "Stop 77").
     pub fn reset_coupling(&mut self) -> bool {
         let held = self.coupled.iter().any(|&c| c) || self.band.iter().any(|b| !b.is_empty());
@@ -2762,6 +2768,11 @@ fn minimize_on(f: impl Fn(f64) -> Option<f64>, lo: f64, hi: f64, samples: usize)
     let bracket = ((best.0 - step).max(lo), (best.0 + step).min(hi));
     Some(golden_search(|x| f(x).unwrap_or(f64::MAX), bracket, 39).midpoint())
 }
+
+/// A node's coupling band is renewed, not widened, where widening would make
+/// it more than this many times the master functions of the elements its
+/// points see and their neighbours ([`ContactInterface::update_band`]).
+pub const BAND_RENEWAL_FACTOR: usize = 2;
 
 /// For each element of a 3D master face, the elements whose parameter boxes
 /// touch or overlap its own in both directions (across the seams of a
