@@ -1395,7 +1395,7 @@ impl ContactInterface {
     /// either side on 2D curves, the touching elements on 3D surfaces,
     /// [`touching_elements`]); where its band would then exceed
     /// [`BAND_RENEWAL_FACTOR`] times those, they replace it. Where that changes
-    /// the pattern, every node's band over that bound is renewed so.
+    /// the pattern, every coupled node's band over that bound is renewed so.
     ///
     /// Bounded: a node's contact block is dense in its band (the augmented
     /// Lagrangian's `εN G Gᵀ / A`), and a band that kept every element an
@@ -1415,7 +1415,10 @@ impl ContactInterface {
             let periodic = self.period.is_some();
             self.touching = Some(touching_elements(&self.master_face, periodic));
         }
-        for i in (0..self.n_slave()).filter(|&i| changed || out[i]) {
+        // The bands of the nodes the pattern couples enter it; the others'
+        // are renewed when they outgrow them.
+        let renewed = |i: usize| out[i] || (changed && self.coupled[i]);
+        for i in (0..self.n_slave()).filter(|&i| renewed(i)) {
             let fresh = self.fresh_band(i);
             let bound = BAND_RENEWAL_FACTOR * fresh.len();
             if out[i] && self.band[i].union(&fresh).count() <= bound {
@@ -1438,9 +1441,11 @@ impl ContactInterface {
     /// 28 M; `p + 1`, as on 2D curves, more still).
     fn fresh_band(&self, i: usize) -> BTreeSet<usize> {
         let els = self.master_face.elements();
-        let seen = self.node_points[i]
+        let seen: BTreeSet<usize> = self.node_points[i]
             .iter()
-            .map(|&q| self.state[q].master_element());
+            .map(|&q| self.state[q].master_element())
+            .collect();
+        let seen = seen.into_iter();
         if let Some(touching) = &self.touching {
             return seen
                 .flat_map(|e| touching[e].iter())
