@@ -1388,7 +1388,8 @@ impl ContactInterface {
     }
 
     /// Whether the current projections stay within the coupling band of the
-    /// pattern; if not, widens the band and returns `true` (pattern changed).
+    /// pattern; if not, widens or renews the bands and returns `true` where the
+    /// pattern changed.
     ///
     /// A node that sees master elements outside its band gets the master
     /// elements its points see now with their neighbours (`p + 1` elements on
@@ -1514,8 +1515,8 @@ impl ContactInterface {
     /// is cut back: its failed iterates may have projected far off, and a band is renewed only
     /// once it exceeds [`BAND_RENEWAL_FACTOR`] times what its node needs, at a change of the
     /// pattern (a node's contact block is dense in the band, so its entries grow with its
-    /// square: from rest, the degree-1 egg box's fifth level reached 42–46 M entries against 21 M from its
-    /// carried-over state at the same load; docs/3d.md, "Stop 77").
+    /// square: from rest, the degree-1 egg box's fifth level reached 42–46 M entries against
+    /// 21 M from its carried-over state at the same load; docs/3d.md, "Stop 77").
     pub fn reset_coupling(&mut self) -> bool {
         let held = self.coupled.iter().any(|&c| c) || self.band.iter().any(|b| !b.is_empty());
         self.band.iter_mut().for_each(BTreeSet::clear);
