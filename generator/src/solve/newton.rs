@@ -105,9 +105,10 @@ pub trait NonlinearProblem: Send {
     /// `false` without contact.
     ///
     /// At a constant load, [`Newton`] takes a solve's first increment again
-    /// from the initial state with the tangent without them where no halving
-    /// of it evaluates ([`NON_FINITE_RESIDUAL`], `UNEVALUABLE_HALVINGS`),
-    /// then goes on with the curvature. On a steep height map (docs/3d.md,
+    /// from the initial state with the tangent without them where its end
+    /// cannot be evaluated ([`NON_FINITE_RESIDUAL`]), before any halving
+    /// (`UNEVALUABLE_HALVINGS`), then goes on with the curvature. On a steep
+    /// height map (docs/3d.md,
     /// "Stop 103") the spots of an adaptive level carry pressures of the
     /// order of `E`, the curvature makes the displacement block indefinite
     /// there, and the first increment from the carried-over state, almost all
@@ -115,7 +116,12 @@ pub trait NonlinearProblem: Send {
     /// tall bodies): no halving to 1/32 evaluated, and the level was solved
     /// again from the configuration solved (125.5 s). Taken again without
     /// the curvature, it converged from the carried-over state (68.6 s), to
-    /// the same jump within 3e-7.
+    /// the same jump within 3e-7. Until stop 107 only where no halving
+    /// evaluated: on the same map's second level at 30 kPa (205 700
+    /// unknowns) the first increment evaluated at 1/32, the next ones at
+    /// 1/16–1/32, and the level was solved again from the configuration
+    /// solved (1 724 s); taken again at once, it converges from the
+    /// carried-over state in 7 iterations (402 s; docs/3d.md, "Stop 107").
     /// Later increments are not taken again: where they met such states the
     /// solves went on without progress, and a level that falls back to the
     /// configuration solved or to rest sooner took less time.
@@ -861,6 +867,9 @@ impl Newton {
                 (0, k) => {
                     format!("{NON_FINITE_RESIDUAL} met and increments halved {k}×, then {reason}")
                 }
+                (j, 0) => format!(
+                    "{NON_FINITE_RESIDUAL} met, increments taken again without the contact's curvature {j}×, then {reason}"
+                ),
                 (j, k) => format!(
                     "{NON_FINITE_RESIDUAL} met, increments taken again without the contact's curvature {j}× and halved {k}×, then {reason}"
                 ),
@@ -909,6 +918,24 @@ impl Newton {
                 if norms.iter().all(|v| v.is_finite()) {
                     break (analysis, version, prepared, assembled, norms);
                 }
+                // A solve's first increment whose end cannot be evaluated is
+                // taken again from the initial state with a tangent without
+                // the contact's curvature, before any halving (where the
+                // problem has such terms); the later increments, the retaken
+                // one among them, are halved ([`UNEVALUABLE_HALVINGS`]).
+                if taken.as_ref().is_some_and(|t| t.first) && p.set_contact_curvature(false) {
+                    let t = taken.take().expect("a first increment");
+                    p.restore(&t.from);
+                    p.after_update();
+                    retaken.set(retaken.get() + 1);
+                    flat_next = true;
+                    if trace {
+                        eprintln!(
+                            "  step {step} λ={load_factor:.4} it {it}: {NON_FINITE_RESIDUAL}; the increment taken again without the contact's curvature"
+                        );
+                    }
+                    continue;
+                }
                 match taken.as_mut().filter(|t| t.halvings < UNEVALUABLE_HALVINGS) {
                     Some(t) => {
                         t.halve(p);
@@ -920,26 +947,7 @@ impl Newton {
                             );
                         }
                     }
-                    None => {
-                        // No halving of the solve's first increment evaluates:
-                        // it is taken again from the initial state with a
-                        // tangent without the contact's curvature (and halved
-                        // likewise should its end not evaluate either).
-                        match taken.take().filter(|t| t.first) {
-                            Some(t) if p.set_contact_curvature(false) => {
-                                p.restore(&t.from);
-                                p.after_update();
-                                retaken.set(retaken.get() + 1);
-                                flat_next = true;
-                                if trace {
-                                    eprintln!(
-                                        "  step {step} λ={load_factor:.4} it {it}: {NON_FINITE_RESIDUAL}; the increment taken again without the contact's curvature"
-                                    );
-                                }
-                            }
-                            _ => return Err(fail(it, NON_FINITE_RESIDUAL.into())),
-                        }
-                    }
+                    None => return Err(fail(it, NON_FINITE_RESIDUAL.into())),
                 }
             };
             history.push(IterationRecord {
@@ -1037,8 +1045,8 @@ impl Newton {
             if merit < smallest.0 {
                 smallest = (merit, it);
             }
-            // (A retake follows halvings: `shortened` counts it in.)
-            if shortened.get() > 0 && it - smallest.1 >= SHORTENED_STAGNATION {
+            // So does one that took its first increment again.
+            if shortened.get() + retaken.get() > 0 && it - smallest.1 >= SHORTENED_STAGNATION {
                 return Err(fail(
                     it,
                     format!(
@@ -1382,6 +1390,9 @@ const CYCLE_LINE_SEARCHES: usize = 4;
 /// an overlap of the bodies out at once) before the iterations fail with
 /// [`NON_FINITE_RESIDUAL`]: the increment is shortened to `1/2, 1/4, …, 1/32`
 /// of itself, and the iterations go on from the first state that evaluates.
+/// A solve's first increment is first taken again without the contact's
+/// curvature ([`NonlinearProblem::set_contact_curvature`]), and that one is
+/// halved should its end not evaluate either.
 /// Only the path of the iterates changes, not what converges. Where the load
 /// varies, load stepping's cut-back is the remedy (shortened increments at the
 /// full load took about five times as long as the cut-back on the case mesh
@@ -1894,12 +1905,37 @@ mod tests {
         -3.0 * SOFT_A * (x - 1.0).powi(2)
     }
 
+    /// `R(x) = ln x − b (x − 1)³` with a milder "curvature" `−3b (x − 1)²`
+    /// ([`shallow_curvature`]): Newton's increment at `x = 3` is −3.5, whose
+    /// end leaves the domain and whose half does not; without the curvature
+    /// it is −3.25, whose half is in the domain too.
+    fn shallow(x: f64, _: f64) -> (f64, f64) {
+        match x > 0.0 {
+            true => (
+                x.ln() - shallow_b() * (x - 1.0).powi(3),
+                1.0 / x + shallow_curvature(x),
+            ),
+            false => (f64::NAN, f64::NAN),
+        }
+    }
+
+    /// [`shallow`]'s `b`: `R(3) / R'(3) = (ln 3 − 8b) / (1/3 − 12b) = 3.5`.
+    fn shallow_b() -> f64 {
+        (3.5 / 3.0 - 3f64.ln()) / (42.0 - 8.0)
+    }
+
+    /// The "curvature's" part of [`shallow`]'s slope.
+    fn shallow_curvature(x: f64) -> f64 {
+        -3.0 * shallow_b() * (x - 1.0).powi(2)
+    }
+
     /// A solve's first increment at a constant load whose end cannot be
-    /// evaluated at any of its halvings is taken again without the contact's
-    /// curvature ([`NonlinearProblem::set_contact_curvature`]), and Newton
-    /// converges from there with the curvature back in its tangent; a
-    /// problem without such terms fails as before, and however the solve
-    /// ends, the curvature is back in.
+    /// evaluated is taken again without the contact's curvature
+    /// ([`NonlinearProblem::set_contact_curvature`]) before any halving, also
+    /// where a halving would evaluate, and Newton converges from there with
+    /// the curvature back in its tangent; a problem without such terms is
+    /// halved, or fails, as before, and however the solve ends, the
+    /// curvature is back in.
     #[test]
     fn an_unevaluable_increment_is_taken_again_without_the_contact_curvature() {
         let settings = NewtonSettings {
@@ -1934,7 +1970,7 @@ mod tests {
         match solve(&mut p, &one) {
             Err(Error::NewtonDiverged { reason, .. }) => assert!(
                 reason.starts_with(&format!(
-                    "{NON_FINITE_RESIDUAL} met, increments taken again without the contact's curvature 1× and halved 5×, then"
+                    "{NON_FINITE_RESIDUAL} met, increments taken again without the contact's curvature 1×, then"
                 )),
                 "{reason}"
             ),
@@ -1945,6 +1981,34 @@ mod tests {
         let mut p = Scalar::new(3.0, false, soft).with_curvature(soft_curvature);
         assert!(solve(&mut p, &settings).is_err());
         assert_eq!(p.flat_tangents, 0);
+        // A first increment that a halving would bring into the domain is
+        // taken again without the curvature first (stop 107: on a steep map's
+        // refined level the halvings went on at every increment), and the
+        // retaken one halved; without such terms it is halved at once.
+        let mut p = Scalar::new(3.0, true, shallow).with_curvature(shallow_curvature);
+        solve(&mut p, &settings).unwrap();
+        assert!((p.x - 1.0).abs() < 1e-9, "{}", p.x);
+        assert_eq!(p.flat_tangents, 1);
+        // (Two iterations allowed: the retaken increment's end is the second.)
+        let two = NewtonSettings {
+            max_iterations: 2,
+            ..settings.clone()
+        };
+        for (mut p, path) in [
+            (
+                Scalar::new(3.0, true, shallow).with_curvature(shallow_curvature),
+                ", increments taken again without the contact's curvature 1× and halved 1×",
+            ),
+            (Scalar::new(3.0, true, shallow), " and increments halved 1×"),
+        ] {
+            match solve(&mut p, &two) {
+                Err(Error::NewtonDiverged { reason, .. }) => assert!(
+                    reason.starts_with(&format!("{NON_FINITE_RESIDUAL} met{path}, then")),
+                    "{reason}"
+                ),
+                other => panic!("{other:?}"),
+            }
+        }
     }
 
     /// Iterates that return to the same states are detected after four
