@@ -1908,7 +1908,7 @@ mod tests {
     /// `R(x) = ln x − b (x − 1)³` with a milder "curvature" `−3b (x − 1)²`
     /// ([`shallow_curvature`]): Newton's increment at `x = 3` is −3.5, whose
     /// end leaves the domain and whose half does not; without the curvature
-    /// it is −3.25, whose half is in the domain too.
+    /// it is −3.25, whose end leaves the domain too and whose half does not.
     fn shallow(x: f64, _: f64) -> (f64, f64) {
         match x > 0.0 {
             true => (
