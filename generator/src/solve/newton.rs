@@ -118,10 +118,10 @@ pub trait NonlinearProblem: Send {
     /// the curvature, it converged from the carried-over state (68.6 s), to
     /// the same jump within 3e-7. Until stop 107 only where no halving
     /// evaluated: on the same map's second level at 30 kPa (205 700
-    /// unknowns) the first increment evaluated at 1/32, the next ones at
-    /// 1/16–1/32, and the level was solved again from the configuration
-    /// solved (1 724 s); taken again at once, it converges from the
-    /// carried-over state in 7 iterations (402 s; docs/3d.md, "Stop 107").
+    /// unknowns) the first increment evaluated at 1/32, the second at 1/16,
+    /// and the level was solved again from the configuration solved
+    /// (1 724 s); taken again at once, it converges from the carried-over
+    /// state in 7 iterations (402 s; docs/3d.md, "Stop 107").
     /// Later increments are not taken again: where they met such states the
     /// solves went on without progress, and a level that falls back to the
     /// configuration solved or to rest sooner took less time.
